@@ -1,0 +1,204 @@
+#include "radar_ndt/io/trajectory_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "radar_ndt/io/io_error.h"
+#include "radar_ndt/io/atomic_file.h"
+
+namespace radar_ndt {
+namespace {
+
+std::string readWholeFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path, "cannot open file for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw IoError(path, "read error");
+  return ss.str();
+}
+
+/// Splits a line into numbers; every token must parse completely as a finite double.
+std::vector<double> parseNumbers(const std::string& path, std::size_t line_no, const std::string& line) {
+  std::vector<double> values;
+  const char* p = line.c_str();
+  const char* end = p + line.size();
+  while (p < end) {
+    while (p < end && (std::isspace(static_cast<unsigned char>(*p)) || *p == ',')) ++p;
+    if (p >= end) break;
+    const char* token_end = p;
+    while (token_end < end && !std::isspace(static_cast<unsigned char>(*token_end)) && *token_end != ',') ++token_end;
+    const std::string token(p, token_end);
+    char* parsed_end = nullptr;
+    errno = 0;
+    const double v = std::strtod(token.c_str(), &parsed_end);
+    if (parsed_end != token.c_str() + token.size() || token.empty())
+      throw IoError(path, line_no, "cannot parse '" + token + "' as a number");
+    if (!std::isfinite(v) || errno == ERANGE)
+      throw IoError(path, line_no, "non-finite or out-of-range value '" + token + "'");
+    values.push_back(v);
+    p = token_end;
+  }
+  return values;
+}
+
+template <typename Fn>
+void forEachDataLine(const std::string& path, const std::string& text, Fn&& fn) {
+  std::size_t line_no = 0;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    std::size_t eol = text.find('\n', pos);
+    if (eol == std::string::npos) eol = text.size();
+    std::string line = text.substr(pos, eol - pos);
+    ++line_no;
+    pos = eol + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto first = std::find_if_not(line.begin(), line.end(), [](unsigned char c) { return std::isspace(c); });
+    if (first == line.end() || *first == '#') {
+      if (eol == text.size()) break;
+      continue;
+    }
+    if (line.find('\0') != std::string::npos) throw IoError(path, line_no, "binary data in a text file");
+    if (!fn(line_no, parseNumbers(path, line_no, line))) break;  // fn returns false to stop
+    if (eol == text.size()) break;
+  }
+}
+
+void checkRotation(const std::string& path, std::size_t line_no, const Eigen::Matrix3d& R) {
+  const double orth = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (orth > 1e-3 || std::abs(R.determinant() - 1.0) > 1e-3) {
+    std::ostringstream msg;
+    msg << "rotation block is not a rotation (|RtR - I| = " << orth << ", det = " << R.determinant() << ")";
+    throw IoError(path, line_no, msg.str());
+  }
+}
+
+std::size_t firstDataColumnCount(const std::string& path, const std::string& text) {
+  std::size_t count = 0;
+  bool found = false;
+  forEachDataLine(path, text, [&](std::size_t, const std::vector<double>& v) {
+    count = v.size();
+    found = true;
+    return false;
+  });
+  if (!found) throw IoError(path, "no poses in the file");
+  return count;
+}
+
+Trajectory parseKitti(const std::string& path, const std::string& text) {
+  Trajectory t;
+  forEachDataLine(path, text, [&](std::size_t line_no, const std::vector<double>& v) {
+    if (v.size() != 12)
+      throw IoError(path, line_no, "KITTI pose needs 12 numbers, found " + std::to_string(v.size()));
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) T.matrix()(r, c) = v[static_cast<std::size_t>(r * 4 + c)];
+    checkRotation(path, line_no, T.linear());
+    t.poses.push_back(T);
+    return true;
+  });
+  if (t.empty()) throw IoError(path, "no poses in the file");
+  return t;
+}
+
+Trajectory parseTum(const std::string& path, const std::string& text) {
+  Trajectory t;
+  forEachDataLine(path, text, [&](std::size_t line_no, const std::vector<double>& v) {
+    if (v.size() != 8)
+      throw IoError(path, line_no, "TUM pose needs 8 numbers (t x y z qx qy qz qw), found " + std::to_string(v.size()));
+    if (!t.stamps.empty() && !(v[0] > t.stamps.back())) {
+      std::ostringstream msg;
+      msg.precision(17);
+      msg << "timestamp " << v[0] << " is not after the previous one (" << t.stamps.back() << ")";
+      throw IoError(path, line_no, msg.str());
+    }
+    Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+    const double n = q.norm();
+    if (!(std::abs(n - 1.0) < 1e-2))
+      throw IoError(path, line_no, "quaternion norm " + std::to_string(n) + " is not 1");
+    q.normalize();
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = q.toRotationMatrix();
+    T.translation() << v[1], v[2], v[3];
+    t.stamps.push_back(v[0]);
+    t.poses.push_back(T);
+    return true;
+  });
+  if (t.empty()) throw IoError(path, "no poses in the file");
+  return t;
+}
+
+}  // namespace
+
+TrajectoryFormat parseTrajectoryFormat(const std::string& name) {
+  std::string n = name;
+  std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (n == "kitti") return TrajectoryFormat::Kitti;
+  if (n == "tum") return TrajectoryFormat::Tum;
+  if (n == "auto") return TrajectoryFormat::Auto;
+  throw std::invalid_argument("unknown trajectory format '" + name + "' (expected kitti, tum or auto)");
+}
+
+Trajectory readKitti(const std::string& path) { return parseKitti(path, readWholeFile(path)); }
+
+Trajectory readTum(const std::string& path) { return parseTum(path, readWholeFile(path)); }
+
+Trajectory readTrajectory(const std::string& path, TrajectoryFormat format) {
+  const std::string text = readWholeFile(path);
+  if (format == TrajectoryFormat::Auto) {
+    const std::size_t columns = firstDataColumnCount(path, text);
+    if (columns == 12)
+      format = TrajectoryFormat::Kitti;
+    else if (columns == 8)
+      format = TrajectoryFormat::Tum;
+    else
+      throw IoError(path, "cannot tell the trajectory format: the first pose line has " + std::to_string(columns) +
+                              " numbers (KITTI has 12, TUM 8)");
+  }
+  return format == TrajectoryFormat::Kitti ? parseKitti(path, text) : parseTum(path, text);
+}
+
+void writeKitti(const std::string& path, const Trajectory& trajectory) {
+  std::ostringstream out;
+  char buf[64];
+  for (const auto& T : trajectory.poses) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) {
+        std::snprintf(buf, sizeof(buf), "%.9g", T.matrix()(r, c));
+        out << buf << ((r == 2 && c == 3) ? '\n' : ' ');
+      }
+  }
+  writeFileAtomically(path, out.str());
+}
+
+void writeTum(const std::string& path, const Trajectory& trajectory) {
+  if (trajectory.stamps.size() != trajectory.poses.size())
+    throw IoError(path, "TUM output needs one timestamp per pose (" + std::to_string(trajectory.stamps.size()) +
+                            " stamps, " + std::to_string(trajectory.poses.size()) + " poses)");
+  std::ostringstream out;
+  char buf[256];
+  for (std::size_t i = 0; i < trajectory.size(); ++i) {
+    const auto& T = trajectory.poses[i];
+    const Eigen::Quaterniond q(T.linear());
+    std::snprintf(buf, sizeof(buf), "%.6f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", trajectory.stamps[i],
+                  T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w());
+    out << buf;
+  }
+  writeFileAtomically(path, out.str());
+}
+
+void writeTrajectory(const std::string& path, const Trajectory& trajectory, TrajectoryFormat format) {
+  if (format == TrajectoryFormat::Tum || (format == TrajectoryFormat::Auto && trajectory.hasStamps()))
+    writeTum(path, trajectory);
+  else
+    writeKitti(path, trajectory);
+}
+
+}  // namespace radar_ndt

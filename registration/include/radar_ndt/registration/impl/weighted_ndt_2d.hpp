@@ -1,0 +1,454 @@
+#pragma once
+// Implementation of radar_ndt::WeightedNDT2D. Included by the library's instantiation unit, and by
+// users who need point types other than pcl::PointXYZ, pcl::PointXYZI and radar_ndt::PointRadar.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include <Eigen/Eigenvalues>
+#include <pcl/common/transforms.h>
+#include <pcl/console/print.h>
+#include <pcl/type_traits.h>
+
+#include "radar_ndt/registration/weighted_ndt_2d.h"
+#include "radar_ndt/se2.h"
+
+namespace radar_ndt {
+namespace detail {
+
+/// Power used for the weights: PointRadar's `power`, PointXYZI's `intensity`, else 1.
+template <typename PointT>
+inline float pointPower(const PointT& p) {
+  if constexpr (pcl::traits::has_field<PointT, pcl::fields::power>::value)
+    return p.power;
+  else if constexpr (pcl::traits::has_field<PointT, pcl::fields::intensity>::value)
+    return p.intensity;
+  else {
+    (void)p;
+    return 1.0f;
+  }
+}
+
+/// The point's own 2x2 position covariance, zero when the type has none.
+template <typename PointT>
+inline Eigen::Vector3d pointCovariance(const PointT& p) {  // (xx, xy, yy)
+  if constexpr (pcl::traits::has_field<PointT, pcl::fields::cov_xx>::value)
+    return Eigen::Vector3d(p.cov_xx, p.cov_xy, p.cov_yy);
+  else {
+    (void)p;
+    return Eigen::Vector3d::Zero();
+  }
+}
+
+template <typename PointT>
+inline void rotateCovariance(PointT& p, const Eigen::Matrix2d& R) {
+  if constexpr (pcl::traits::has_field<PointT, pcl::fields::cov_xx>::value) {
+    Eigen::Matrix2d C;
+    C << p.cov_xx, p.cov_xy, p.cov_xy, p.cov_yy;
+    const Eigen::Matrix2d Cr = R * C * R.transpose();
+    p.cov_xx = static_cast<float>(Cr(0, 0));
+    p.cov_xy = static_cast<float>(Cr(0, 1));
+    p.cov_yy = static_cast<float>(Cr(1, 1));
+  } else {
+    (void)p;
+    (void)R;
+  }
+}
+
+/// A usable point: finite position and covariance, covariance not negative on the diagonal.
+inline bool usable(double x, double y, const Eigen::Vector3d& cov) {
+  return std::isfinite(x) && std::isfinite(y) && cov.allFinite() && cov.x() >= 0 && cov.z() >= 0;
+}
+
+inline std::int32_t floorToInt(double v) { return static_cast<std::int32_t>(std::floor(v)); }
+
+}  // namespace detail
+
+template <typename PointSource, typename PointTarget>
+WeightedNDT2D<PointSource, PointTarget>::WeightedNDT2D() {
+  reg_name_ = "WeightedNDT2D";
+  max_iterations_ = 35;
+  transformation_epsilon_ = 1e-6;                      // (1 mm)² of translation increment
+  transformation_rotation_epsilon_ = std::cos(1e-4);   // 0.1 mrad of rotation increment
+  this->tree_.reset(new detail::LazyKdTree<PointTarget>());
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::setInputTarget(const PointCloudTargetConstPtr& cloud) {
+  Base::setInputTarget(cloud);
+  buildTargetModel();
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::setResolutions(const std::vector<float>& sizes) {
+  if (sizes.empty() || std::any_of(sizes.begin(), sizes.end(), [](float g) { return !(g > 0.0f) || !std::isfinite(g); })) {
+    PCL_ERROR("[radar_ndt::%s::setResolutions] grid sizes must be positive and finite; keeping the old ones\n",
+              reg_name_.c_str());
+    return;
+  }
+  resolutions_ = sizes;
+  buildTargetModel();
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::setPowerShift(float s) {
+  if (!std::isfinite(s)) {
+    PCL_ERROR("[radar_ndt::%s::setPowerShift] shift must be finite\n", reg_name_.c_str());
+    return;
+  }
+  power_shift_ = s;
+  buildTargetModel();
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::setEigenvalueRatio(double ratio) {
+  if (!(ratio > 0.0 && ratio <= 1.0)) {
+    PCL_ERROR("[radar_ndt::%s::setEigenvalueRatio] ratio must be in (0, 1]\n", reg_name_.c_str());
+    return;
+  }
+  eigen_ratio_ = ratio;
+  buildTargetModel();
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::setMinPointsPerCell(int n) {
+  min_points_per_cell_ = std::max(1, n);
+  buildTargetModel();
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::setCellLookup(CellLookup lookup) {
+  lookup_ = lookup;
+  buildTargetModel();
+}
+
+template <typename PointSource, typename PointTarget>
+std::size_t WeightedNDT2D<PointSource, PointTarget>::getTargetModelBytes() const {
+  std::size_t bytes = 0;
+  for (const auto& g : grids_) bytes += g.cells.capacity() * sizeof(detail::NdtCell) + g.index.memoryBytes();
+  return bytes;
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::buildTargetModel() {
+  grids_.clear();
+  if (!target_) return;
+  grids_.resize(resolutions_.size());
+  for (std::size_t i = 0; i < resolutions_.size(); ++i) buildGrid(grids_[i], resolutions_[i]);
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::buildGrid(detail::NdtGrid& grid, double g) const {
+  grid.resolution = g;
+  grid.lookup = lookup_;
+  grid.cells.clear();
+  grid.index.clear();
+
+  // Target points with a positive weight, eq. (1): w = max(p − s, 0).
+  struct TargetPoint {
+    double x, y, w;
+    Eigen::Vector3d cov;
+  };
+  std::vector<TargetPoint> pts;
+  pts.reserve(target_->size());
+  for (const auto& p : *target_) {
+    const Eigen::Vector3d cov = detail::pointCovariance(p);
+    if (!detail::usable(p.x, p.y, cov)) continue;
+    const double w = std::max(0.0, static_cast<double>(detail::pointPower(p)) - power_shift_);
+    if (!(w > 0.0) || !std::isfinite(w)) continue;
+    pts.push_back({p.x, p.y, w, cov});
+  }
+
+  // Relative and absolute eigenvalue floors: (1 % of g)² keeps single-line cells invertible.
+  const double abs_floor = (0.01 * g) * (0.01 * g);
+  const int n_grids = lookup_ == CellLookup::OverlappingGrids ? 4 : 1;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(pts.size());
+
+  for (int k = 0; k < n_grids; ++k) {
+    const int kx = k & 1, ky = (k >> 1) & 1;  // half-cell offsets of this grid
+    const double ox = 0.5 * g * kx, oy = 0.5 * g * ky;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const std::int32_t cx = detail::floorToInt((pts[i].x - ox) / g), cy = detail::floorToInt((pts[i].y - oy) / g);
+      keyed[i] = {(static_cast<std::uint64_t>(static_cast<std::uint32_t>(cx)) << 32) | static_cast<std::uint32_t>(cy),
+                  static_cast<std::uint32_t>(i)};
+    }
+    // Sorting groups each cell's points together in a fixed order (deterministic sums).
+    std::sort(keyed.begin(), keyed.end());
+    for (std::size_t b = 0; b < keyed.size();) {
+      std::size_t e = b;
+      while (e < keyed.size() && keyed[e].first == keyed[b].first) ++e;
+      const int count = static_cast<int>(e - b);
+      if (count >= min_points_per_cell_) {
+        double sw = 0, mx = 0, my = 0;
+        for (std::size_t j = b; j < e; ++j) {
+          const TargetPoint& p = pts[keyed[j].second];
+          sw += p.w;
+          mx += p.w * p.x;
+          my += p.w * p.y;
+        }
+        mx /= sw;
+        my /= sw;
+        double cxx = 0, cxy = 0, cyy = 0;  // Σ w [(p − μ)(p − μ)ᵀ + Σᵢ]
+        for (std::size_t j = b; j < e; ++j) {
+          const TargetPoint& p = pts[keyed[j].second];
+          const double dx = p.x - mx, dy = p.y - my;
+          cxx += p.w * (dx * dx + p.cov.x());
+          cxy += p.w * (dx * dy + p.cov.y());
+          cyy += p.w * (dy * dy + p.cov.z());
+        }
+        cxx /= sw;
+        cxy /= sw;
+        cyy /= sw;
+        // Eigen-decomposition of the 2x2 covariance, closed form; floor the small eigenvalue.
+        const double tr_half = 0.5 * (cxx + cyy);
+        const double disc = std::sqrt(std::max(0.0, 0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy));
+        double l1 = tr_half + disc, l2 = tr_half - disc;
+        l1 = std::max(l1, abs_floor);
+        l2 = std::max({l2, eigen_ratio_ * l1, abs_floor});
+        // eigenvector of l1
+        double vx, vy;
+        if (std::abs(cxy) > 1e-12 * (std::abs(cxx) + std::abs(cyy))) {
+          vx = (tr_half + disc) - cyy;
+          vy = cxy;
+        } else if (cxx >= cyy) {
+          vx = 1;
+          vy = 0;
+        } else {
+          vx = 0;
+          vy = 1;
+        }
+        const double n = std::hypot(vx, vy);
+        vx /= n;
+        vy /= n;
+        // Σ⁻¹ = v vᵀ / l1 + u uᵀ / l2, u ⟂ v
+        const double a = 1.0 / l1, c = 1.0 / l2;
+        detail::NdtCell cell;
+        cell.mx = mx;
+        cell.my = my;
+        cell.ixx = a * vx * vx + c * vy * vy;
+        cell.ixy = (a - c) * vx * vy;
+        cell.iyy = a * vy * vy + c * vx * vx;
+        cell.weight = sw;
+        const auto idx = static_cast<std::int32_t>(grid.cells.size());
+        grid.cells.push_back(cell);
+        const std::int32_t cx = static_cast<std::int32_t>(keyed[b].first >> 32);
+        const std::int32_t cy = static_cast<std::int32_t>(keyed[b].first & 0xffffffffu);
+        if (lookup_ == CellLookup::Neighbours) {
+          // Lookup key: the grid vertex nearest the query point; cell (cx, cy) has vertices
+          // (cx..cx+1, cy..cy+1), so each vertex lists the 2x2 block of cells around it.
+          grid.index.add(cx, cy, idx);
+          grid.index.add(cx + 1, cy, idx);
+          grid.index.add(cx, cy + 1, idx);
+          grid.index.add(cx + 1, cy + 1, idx);
+        } else {
+          // Lookup key: the half-size cell the query point falls in; this cell of grid k covers
+          // half-cells (2cx + kx .. 2cx + kx + 1, 2cy + ky .. 2cy + ky + 1).
+          const std::int32_t hx = 2 * cx + kx, hy = 2 * cy + ky;
+          grid.index.add(hx, hy, idx);
+          grid.index.add(hx + 1, hy, idx);
+          grid.index.add(hx, hy + 1, idx);
+          grid.index.add(hx + 1, hy + 1, idx);
+        }
+      }
+      b = e;
+    }
+  }
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::prepareSource() {
+  source_points_.clear();
+  if (!input_) return;
+  const auto& indices = *this->indices_;
+  source_points_.reserve(indices.size());
+  for (const auto i : indices) {
+    const PointSource& p = (*input_)[i];
+    const Eigen::Vector3d cov = detail::pointCovariance(p);
+    if (!detail::usable(p.x, p.y, cov)) continue;
+    // eq. (2): w = max(p − s, 0) · exp(−½(σx + σy))
+    const double w = std::max(0.0, static_cast<double>(detail::pointPower(p)) - power_shift_) *
+                     std::exp(-0.5 * (std::sqrt(cov.x()) + std::sqrt(cov.z())));
+    if (!(w > 0.0) || !std::isfinite(w)) continue;
+    source_points_.push_back({p.x, p.y, w});
+  }
+}
+
+template <typename PointSource, typename PointTarget>
+double WeightedNDT2D<PointSource, PointTarget>::evaluate(const detail::NdtGrid& grid, const Eigen::Vector3d& x,
+                                                         Eigen::Vector3d* gradient, Eigen::Matrix3d* hessian,
+                                                         std::size_t* matched, Eigen::Matrix3d* information) const {
+  // Points farther than this (squared Mahalanobis) from a cell contribute < e^-15 of their weight.
+  constexpr double kMaxMahalanobis = 30.0;
+  const double c = std::cos(x.z()), s = std::sin(x.z());
+  const double tx = x.x(), ty = x.y();
+  double value = 0;
+  double g0 = 0, g1 = 0, g2 = 0;
+  double h00 = 0, h01 = 0, h02 = 0, h11 = 0, h12 = 0, h22 = 0;
+  double i00 = 0, i01 = 0, i02 = 0, i11 = 0, i12 = 0, i22 = 0;
+  std::size_t n_matched = 0;
+  for (const auto& p : source_points_) {
+    const double rx = c * p.x - s * p.y, ry = s * p.x + c * p.y;  // R p
+    const double qx = rx + tx, qy = ry + ty;
+    const std::int32_t* slots = grid.cellsNear(qx, qy);
+    if (!slots) continue;
+    const double jx = -ry, jy = rx;  // ∂q/∂yaw
+    bool hit = false;
+    for (int k = 0; k < 4; ++k) {
+      if (slots[k] < 0) continue;
+      const detail::NdtCell& cell = grid.cells[static_cast<std::size_t>(slots[k])];
+      const double dx = qx - cell.mx, dy = qy - cell.my;
+      const double ax = cell.ixx * dx + cell.ixy * dy, ay = cell.ixy * dx + cell.iyy * dy;  // Σ⁻¹ d
+      const double m = dx * ax + dy * ay;
+      if (m > kMaxMahalanobis) continue;
+      hit = true;
+      const double e = p.w * std::exp(-0.5 * m);
+      value -= e;
+      if (!gradient) continue;
+      const double a2 = ax * jx + ay * jy;  // dᵀ Σ⁻¹ ∂q/∂yaw
+      g0 += e * ax;
+      g1 += e * ay;
+      g2 += e * a2;
+      const double cjx = cell.ixx * jx + cell.ixy * jy, cjy = cell.ixy * jx + cell.iyy * jy;  // Σ⁻¹ ∂q/∂yaw
+      if (hessian) {
+        // Biber & Straßer (2003): H_kl = e [−(aᵀJ_k)(aᵀJ_l) + J_lᵀΣ⁻¹J_k + aᵀ ∂²q/∂x_k∂x_l],
+        // with ∂²q/∂yaw² = −R p and the other second derivatives zero.
+        h00 += e * (cell.ixx - ax * ax);
+        h01 += e * (cell.ixy - ax * ay);
+        h02 += e * (cjx - ax * a2);
+        h11 += e * (cell.iyy - ay * ay);
+        h12 += e * (cjy - ay * a2);
+        h22 += e * (jx * cjx + jy * cjy - a2 * a2 - ax * rx - ay * ry);
+      }
+      if (information) {
+        i00 += e * cell.ixx;
+        i01 += e * cell.ixy;
+        i02 += e * cjx;
+        i11 += e * cell.iyy;
+        i12 += e * cjy;
+        i22 += e * (jx * cjx + jy * cjy);
+      }
+    }
+    if (hit) ++n_matched;
+  }
+  if (gradient) *gradient << g0, g1, g2;
+  if (hessian) *hessian << h00, h01, h02, h01, h11, h12, h02, h12, h22;
+  if (information) *information << i00, i01, i02, i01, i11, i12, i02, i12, i22;
+  if (matched) *matched = n_matched;
+  return value;
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSource& output, const Matrix4& guess) {
+  converged_ = false;
+  degenerate_ = false;
+  final_num_iterations_ = 0;
+  num_matched_points_ = 0;
+  final_score_ = 0;
+  final_hessian_.setZero();
+  pose_covariance_ = Eigen::Matrix3d::Identity() * std::numeric_limits<double>::infinity();
+
+  Pose2 x = toPose2(guess);
+  if (!x.allFinite()) {
+    PCL_ERROR("[radar_ndt::%s::computeTransformation] the initial guess is not finite\n", reg_name_.c_str());
+    x.setZero();
+  }
+  prepareSource();
+
+  auto finish = [&](const Pose2& pose) {
+    final_transformation_ = transformation_ = toMatrix4<float>(pose);
+    pcl::transformPointCloud(output, output, final_transformation_);
+    if constexpr (pcl::traits::has_field<PointSource, pcl::fields::cov_xx>::value) {
+      const Eigen::Matrix2d R = Eigen::Rotation2Dd(pose.z()).toRotationMatrix();
+      for (auto& p : output) detail::rotateCovariance(p, R);
+    }
+    nr_iterations_ = final_num_iterations_;
+  };
+
+  if (grids_.empty() || grids_.back().cells.empty() || source_points_.empty()) {
+    PCL_ERROR("[radar_ndt::%s::computeTransformation] degenerate problem: %zu target cells, %zu weighted source "
+              "points\n",
+              reg_name_.c_str(), grids_.empty() ? std::size_t(0) : grids_.back().cells.size(), source_points_.size());
+    degenerate_ = true;
+    finish(x);
+    return;
+  }
+
+  bool stage_converged = false;
+  for (const auto& grid : grids_) {
+    const double max_t = max_step_translation_ > 0 ? max_step_translation_ : 0.5 * grid.resolution;
+    Eigen::Vector3d g;
+    Eigen::Matrix3d H;
+    double f = evaluate(grid, x, &g, &H);
+    stage_converged = false;
+    for (int iter = 0; iter < max_iterations_; ++iter) {
+      ++final_num_iterations_;
+      // Newton direction with a positive definite Hessian: eigenvalues mirrored and floored.
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(H);
+      Eigen::Vector3d lambda = es.eigenvalues().cwiseAbs();
+      const double lmax = lambda.maxCoeff();
+      if (!(lmax > 0) || !std::isfinite(lmax)) break;  // no point matched: nothing to optimise
+      for (int i = 0; i < 3; ++i) lambda(i) = std::max(lambda(i), 1e-6 * lmax);
+      Eigen::Vector3d step = -es.eigenvectors() * (lambda.cwiseInverse().asDiagonal() * (es.eigenvectors().transpose() * g));
+      // Limit the step, then backtrack until the score improves enough (Armijo).
+      const double tnorm = step.head<2>().norm();
+      double scale = 1.0;
+      if (tnorm > max_t) scale = max_t / tnorm;
+      if (std::abs(step.z()) * scale > max_step_rotation_) scale = max_step_rotation_ / std::abs(step.z());
+      step *= scale;
+      const double slope = g.dot(step);  // < 0 for a descent direction
+      double alpha = 1.0;
+      bool accepted = false;
+      Eigen::Vector3d gn;
+      Eigen::Matrix3d Hn;
+      double fn = f;
+      for (int ls = 0; ls < 12; ++ls) {
+        fn = evaluate(grid, x + alpha * step, &gn, &Hn);
+        if (fn <= f + 1e-4 * alpha * slope) {
+          accepted = true;
+          break;
+        }
+        alpha *= 0.5;
+      }
+      const Eigen::Vector3d applied = alpha * step;
+      const bool small = applied.head<2>().squaredNorm() < transformation_epsilon_ &&
+                         std::cos(applied.z()) >= transformation_rotation_epsilon_;
+      if (!accepted) {
+        // No step along a descent direction improves the score: at the optimum to numerical
+        // precision when the predicted decrease is negligible, otherwise stuck (not converged).
+        stage_converged = small || std::abs(slope) < 1e-6 * std::max(1e-12, std::abs(f));
+        break;
+      }
+      x += applied;
+      x.z() = normalizeAngle(x.z());
+      f = fn;
+      g = gn;
+      H = Hn;
+      if (small) {
+        stage_converged = true;
+        break;
+      }
+    }
+  }
+
+  // Final diagnostics on the finest grid.
+  const auto& fine = grids_.back();
+  Eigen::Vector3d g;
+  Eigen::Matrix3d info;
+  final_score_ = -evaluate(fine, x, &g, &final_hessian_, &num_matched_points_, &info);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(info);
+  const double imax = es.eigenvalues().maxCoeff(), imin = es.eigenvalues().minCoeff();
+  if (num_matched_points_ < 3 || !(imax > 0) || !(imin > 1e-9 * imax)) {
+    degenerate_ = true;
+    PCL_DEBUG("[radar_ndt::%s::computeTransformation] degenerate: %zu matched points, information eigenvalues "
+              "%g..%g\n",
+              reg_name_.c_str(), num_matched_points_, imin, imax);
+  } else {
+    pose_covariance_ = info.inverse();
+  }
+  converged_ = stage_converged && !degenerate_;
+  finish(x);
+}
+
+}  // namespace radar_ndt

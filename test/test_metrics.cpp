@@ -1,0 +1,167 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+
+#include "radar_ndt/evaluation_report.h"
+#include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/metrics.h"
+
+using namespace radar_ndt;
+
+namespace {
+/// A planar drive: straight, then a constant-radius turn, one pose every `ds` metres.
+Trajectory drive(std::size_t n, double ds, double turn_per_m = 0.002) {
+  Trajectory t;
+  Pose2 p = Pose2::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    t.poses.push_back(toIsometry3(p));
+    t.stamps.push_back(100.0 + 0.25 * static_cast<double>(i));
+    const double yaw_rate = i > n / 3 ? turn_per_m : 0.0;
+    p = compose(p, Pose2(ds, 0, yaw_rate * ds));
+  }
+  return t;
+}
+
+/// The same motions with every step scaled by (1 + scale_err): a pure translational drift.
+Trajectory scaled(const Trajectory& gt, double scale_err) {
+  Trajectory e;
+  e.stamps = gt.stamps;
+  Eigen::Isometry3d acc = gt.poses[0];
+  e.poses.push_back(acc);
+  for (std::size_t i = 1; i < gt.size(); ++i) {
+    Eigen::Isometry3d d = gt.poses[i - 1].inverse() * gt.poses[i];
+    d.translation() *= 1.0 + scale_err;
+    acc = acc * d;
+    e.poses.push_back(acc);
+  }
+  return e;
+}
+
+PosePairs byIndex(const Trajectory& a, const Trajectory& b) {
+  Trajectory x = a, y = b;
+  x.stamps.clear();
+  y.stamps.clear();
+  return associate(x, y);
+}
+}  // namespace
+
+TEST(Metrics, PerfectEstimateHasZeroError) {
+  const auto gt = drive(4000, 0.5);
+  const auto p = byIndex(gt, gt);
+  const auto k = kittiError(p);
+  EXPECT_GT(k.segments, 0u);
+  EXPECT_NEAR(k.trans_err_pct, 0, 1e-9);
+  EXPECT_NEAR(k.rot_err_deg_per_m, 0, 1e-6);
+  EXPECT_NEAR(frameError(p).trans_err_m, 0, 1e-12);
+  EXPECT_NEAR(absoluteTrajectoryError(p).rmse_m, 0, 1e-9);
+}
+
+TEST(Metrics, KittiSegmentsFollowTheDevkit) {
+  const auto gt = drive(2000, 1.0);  // 1999 m of path, a pose every metre
+  const auto k = kittiError(byIndex(gt, gt));
+  ASSERT_EQ(k.per_length.size(), 8u);
+  // first frames 0, 10, ...; L = 100: the last frame is first + 101 (path > 100 m), so first <= 1898.
+  EXPECT_EQ(k.per_length[0].segments, 190u);
+  EXPECT_EQ(k.per_length[7].segments, 120u);  // first + 801 <= 1999
+}
+
+TEST(Metrics, ScaleDriftGivesThatPercentage) {
+  const auto gt = drive(4000, 0.5, 0.0);  // straight line: a 1 % scale error is exactly 1 % per segment
+  const auto p = byIndex(gt, scaled(gt, 0.01));
+  EXPECT_NEAR(kittiError(p).trans_err_pct, 1.0, 0.03);  // segments end just past L
+  EXPECT_NEAR(kittiError(p).rot_err_deg_per_m, 0.0, 1e-9);
+  EXPECT_NEAR(frameError(p).trans_err_m, 0.005, 1e-9);
+  EXPECT_NEAR(oneMeterError(p).trans_err_pct, 1.0, 1e-6);  // divided by the actual length
+}
+
+TEST(Metrics, OneMeterDividesByActualPathLength) {
+  // 13 Hz at 18 m/s: 1.385 m per cycle, so each "1 m" segment is one step of 1.385 m.
+  const auto gt = drive(200, 1.385, 0.0);
+  auto est = gt;
+  for (std::size_t i = 0; i < est.size(); ++i) est.poses[i].translation().y() += (i % 2) ? 0.01385 : 0.0;
+  const auto r = oneMeterError(byIndex(gt, est));
+  EXPECT_EQ(r.segments, 199u);
+  EXPECT_NEAR(r.trans_err_pct, 1.0, 1e-6);  // 1.385 cm over 1.385 m, not over 1 m
+}
+
+TEST(Metrics, AteRemovesARigidOffsetAndRotation) {
+  const auto gt = drive(1000, 0.5);
+  auto est = gt;
+  const Eigen::Isometry3d off = toIsometry3(Pose2(50, -20, 0.8));
+  for (auto& T : est.poses) T = off * T;
+  const auto a = absoluteTrajectoryError(byIndex(gt, est));
+  EXPECT_NEAR(a.rmse_m, 0, 1e-8);
+  EXPECT_NEAR(std::abs(a.alignment.z()), 0.8, 1e-9);
+}
+
+TEST(Metrics, FrameStepSubsamples) {
+  const auto gt = drive(100, 0.5, 0.0);
+  const auto p = byIndex(gt, scaled(gt, 0.1));
+  const auto f3 = frameError(p, 3);
+  EXPECT_EQ(f3.pairs, 33u);
+  EXPECT_NEAR(f3.trans_err_m, 0.15, 1e-9);
+}
+
+TEST(Metrics, TimestampAssociationInterpolatesGroundTruth) {
+  const auto gt = drive(400, 0.5);
+  Trajectory est;
+  for (std::size_t i = 0; i + 1 < gt.size(); i += 3) {  // estimates half-way between gt poses
+    const double t = 0.5 * (gt.stamps[i] + gt.stamps[i + 1]);
+    est.stamps.push_back(t);
+    Eigen::Isometry3d T = gt.poses[i];
+    T.translation() = 0.5 * (gt.poses[i].translation() + gt.poses[i + 1].translation());
+    est.poses.push_back(T);
+  }
+  est.stamps.push_back(gt.stamps.back() + 10);  // outside: dropped
+  est.poses.push_back(gt.poses.back());
+  const auto p = associate(gt, est);
+  EXPECT_EQ(p.size(), est.size() - 1);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    EXPECT_NEAR((p.gt[i].translation() - p.est[i].translation()).norm(), 0, 1e-9);
+}
+
+TEST(Metrics, AssociationFailuresAreClear) {
+  const auto gt = drive(100, 0.5);
+  auto shorter = gt;
+  shorter.poses.pop_back();
+  shorter.stamps.clear();
+  EXPECT_THROW(associate(gt, shorter), std::invalid_argument);
+  auto later = gt;
+  for (auto& s : later.stamps) s += 1000;
+  EXPECT_THROW(associate(gt, later), std::invalid_argument);
+}
+
+TEST(Metrics, ParsesMetricLists) {
+  EXPECT_EQ(parseMetrics("all").size(), 4u);
+  EXPECT_EQ(parseMetrics("kitti,1m").size(), 2u);
+  EXPECT_THROW(parseMetrics("kitti,rpe"), std::invalid_argument);
+}
+
+TEST(Metrics, JsonHasTheSharedShape) {
+  const auto gt = drive(3000, 0.5);
+  const auto r = evaluate(byIndex(gt, scaled(gt, 0.01)), parseMetrics("all"));
+  const std::string j = toJson(r);
+  for (const char* key : {"\"metrics\"", "\"kitti\"", "\"1m\"", "\"frame\"", "\"ate\"", "\"trans_err_pct\"",
+                          "\"rot_err_deg_per_m\"", "\"segments\"", "\"trans_err_m\"", "\"rot_err_deg\"", "\"pairs\"",
+                          "\"rmse_m\""})
+    EXPECT_NE(j.find(key), std::string::npos) << key;
+}
+
+// The published evaluation (CFEAR-3 on Oxford, its authors' own code): ../shared/data/kitti-metric-fixture.
+TEST(Metrics, MatchesThePublishedKittiFixture) {
+  const std::string dir = std::string(RADAR_NDT_SHARED_DATA) + "/kitti-metric-fixture";
+  if (!std::filesystem::exists(dir + "/gt.txt"))
+    GTEST_SKIP() << "no " << dir << " (../shared/data is absent): skipping the published-fixture check";
+  const auto p = associate(readKitti(dir + "/gt.txt"), readKitti(dir + "/est.txt"));
+  const auto k = kittiError(p);
+  EXPECT_NEAR(k.trans_err_pct, 1.23125, 0.001);
+  EXPECT_NEAR(k.rot_err_deg_per_m * 100.0, 0.35856, 0.001);  // result.txt gives deg/100m
+  const auto f = frameError(p);
+  EXPECT_NEAR(f.trans_err_m, 0.05212, 0.0001);
+  EXPECT_NEAR(f.rot_err_deg, 0.0522, 0.0002);
+  EXPECT_NEAR(absoluteTrajectoryError(p).rmse_m, 7.68966, 0.001);
+}

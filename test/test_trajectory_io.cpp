@@ -1,0 +1,140 @@
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "radar_ndt/io/io_error.h"
+#include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/se2.h"
+
+using namespace radar_ndt;
+
+namespace {
+std::string writeText(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "radar_ndt_traj_" + name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+Trajectory sampleTrajectory(bool stamps) {
+  Trajectory t;
+  for (int i = 0; i < 20; ++i) {
+    Eigen::Isometry3d T = toIsometry3(Pose2(0.5 * i, 0.01 * i * i, 0.05 * i));
+    T.translation().z() = 0.001 * i;
+    t.poses.push_back(T);
+    if (stamps) t.stamps.push_back(1600000000.0 + 0.077 * i);
+  }
+  return t;
+}
+
+void expectSame(const Trajectory& a, const Trajectory& b, double tol) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(a.poses[i].matrix().isApprox(b.poses[i].matrix(), tol)) << i;
+  ASSERT_EQ(a.stamps.size(), b.stamps.size());
+  for (std::size_t i = 0; i < a.stamps.size(); ++i) EXPECT_NEAR(a.stamps[i], b.stamps[i], 1e-6);
+}
+
+/// Expects an IoError whose message contains the file name and `fragment`, and the line number.
+void expectError(const std::string& path, const std::string& fragment, std::size_t line, TrajectoryFormat f) {
+  try {
+    readTrajectory(path, f);
+    ADD_FAILURE() << "expected IoError for " << path;
+  } catch (const IoError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_NE(msg.find(fragment), std::string::npos) << msg;
+    EXPECT_EQ(e.line(), line) << msg;
+  }
+}
+}  // namespace
+
+TEST(TrajectoryIo, KittiRoundTrip) {
+  const auto t = sampleTrajectory(false);
+  const std::string path = ::testing::TempDir() + "radar_ndt_traj_rt.kitti";
+  writeKitti(path, t);
+  expectSame(t, readKitti(path), 1e-8);
+  expectSame(t, readTrajectory(path), 1e-8);  // auto-detected
+}
+
+TEST(TrajectoryIo, TumRoundTrip) {
+  const auto t = sampleTrajectory(true);
+  const std::string path = ::testing::TempDir() + "radar_ndt_traj_rt.tum";
+  writeTum(path, t);
+  expectSame(t, readTum(path), 1e-7);
+  expectSame(t, readTrajectory(path), 1e-7);
+}
+
+TEST(TrajectoryIo, CommentsBlankLinesAndCrlfAreAccepted) {
+  const std::string path = writeText("comments.txt",
+                                     "# t x y z qx qy qz qw\r\n\r\n1.0 1 2 3 0 0 0 1\r\n  \n2.0 1 2 3 0 0 0.7071068 0.7071068\n");
+  const auto t = readTum(path);
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_NEAR(toPose2(t.poses[1]).z(), M_PI / 2, 1e-6);
+}
+
+TEST(TrajectoryIo, WriteIsAtomicAndLeavesNoTemporaryFile) {
+  const std::string dir = ::testing::TempDir() + "radar_ndt_atomic";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  writeKitti(dir + "/out.txt", sampleTrajectory(false));
+  std::size_t files = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    ++files;
+    EXPECT_EQ(e.path().filename(), "out.txt");
+  }
+  EXPECT_EQ(files, 1u);
+  EXPECT_THROW(writeKitti(dir + "/no/such/dir/out.txt", sampleTrajectory(false)), IoError);
+  EXPECT_THROW(writeTum(dir + "/x.tum", sampleTrajectory(false)), IoError);  // no stamps
+}
+
+struct MalformedCase {
+  const char* name;
+  const char* text;
+  TrajectoryFormat format;
+  const char* fragment;
+  std::size_t line;
+};
+
+class TrajectoryIoMalformed : public ::testing::TestWithParam<MalformedCase> {};
+
+TEST_P(TrajectoryIoMalformed, GivesFileLineAndProblem) {
+  const auto& c = GetParam();
+  expectError(writeText(c.name, c.text), c.fragment, c.line, c.format);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, TrajectoryIoMalformed,
+    ::testing::Values(
+        MalformedCase{"empty", "", TrajectoryFormat::Auto, "no poses", 0},
+        MalformedCase{"only_comments", "# nothing\n\n", TrajectoryFormat::Kitti, "no poses", 0},
+        MalformedCase{"kitti_short", "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1\n", TrajectoryFormat::Kitti,
+                      "12 numbers, found 11", 2},
+        MalformedCase{"kitti_word", "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 x 0 1 0 0 0 0 1 0\n", TrajectoryFormat::Kitti,
+                      "cannot parse 'x'", 2},
+        MalformedCase{"kitti_nan", "1 0 0 nan 0 1 0 0 0 0 1 0\n", TrajectoryFormat::Kitti, "non-finite", 1},
+        MalformedCase{"kitti_inf", "1 0 0 0 0 1 0 inf 0 0 1 0\n", TrajectoryFormat::Kitti, "non-finite", 1},
+        MalformedCase{"kitti_not_rotation", "2 0 0 0 0 1 0 0 0 0 1 0\n", TrajectoryFormat::Kitti, "not a rotation", 1},
+        MalformedCase{"kitti_trailing_junk", "1 0 0 0 0 1 0 0 0 0 1 0.5abc\n", TrajectoryFormat::Kitti,
+                      "cannot parse '0.5abc'", 1},
+        MalformedCase{"auto_bad_columns", "1 2 3 4 5\n", TrajectoryFormat::Auto, "cannot tell the trajectory format", 0},
+        MalformedCase{"tum_short", "1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 1\n", TrajectoryFormat::Tum, "8 numbers", 2},
+        MalformedCase{"tum_stamps_backwards", "2.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n", TrajectoryFormat::Tum,
+                      "not after the previous", 2},
+        MalformedCase{"tum_duplicate_stamp", "1.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n", TrajectoryFormat::Tum,
+                      "not after the previous", 2},
+        MalformedCase{"tum_zero_quaternion", "1.0 0 0 0 0 0 0 0\n", TrajectoryFormat::Tum, "quaternion norm", 1},
+        MalformedCase{"binary", "1 0 0 0 0 1 0 0 0 0 1 0\n\x01\x02\x00\x03 4\n", TrajectoryFormat::Kitti,
+                      "cannot parse", 2}),
+    [](const ::testing::TestParamInfo<MalformedCase>& i) { return std::string(i.param.name); });
+
+TEST(TrajectoryIo, MissingFileIsNamed) {
+  expectError(::testing::TempDir() + "radar_ndt_no_such_file.txt", "cannot open", 0, TrajectoryFormat::Auto);
+}
+
+TEST(TrajectoryIo, ParsesFormatNames) {
+  EXPECT_EQ(parseTrajectoryFormat("KITTI"), TrajectoryFormat::Kitti);
+  EXPECT_EQ(parseTrajectoryFormat("tum"), TrajectoryFormat::Tum);
+  EXPECT_THROW(parseTrajectoryFormat("csv"), std::invalid_argument);
+}

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <cstring>
 
 #include <Eigen/Eigenvalues>
 #include <pcl/common/transforms.h>
@@ -63,6 +64,31 @@ inline bool usable(double x, double y, const Eigen::Vector3d& cov) {
 }
 
 inline std::int32_t floorToInt(double v) { return static_cast<std::int32_t>(std::floor(v)); }
+
+/// exp(x) for x in [-16, 0] (the Gaussian scores), relative error below 1e-11: x·log2(e) split into
+/// an integer k and f in [-1/2, 1/2], 2^f by its Taylor series to degree 10, 2^k put in the
+/// exponent bits. Inline and about a third of libm's exp in this loop; a pure function, so results
+/// stay deterministic.
+inline double expNegative(double x) {
+  const double t = x * 1.4426950408889634;  // log2(e)
+  const double k = std::nearbyint(t);
+  const double f = (t - k) * 0.6931471805599453;  // e^f = 2^(t - k)
+  double p = 1.0 / 3628800.0;
+  p = p * f + 1.0 / 362880.0;
+  p = p * f + 1.0 / 40320.0;
+  p = p * f + 1.0 / 5040.0;
+  p = p * f + 1.0 / 720.0;
+  p = p * f + 1.0 / 120.0;
+  p = p * f + 1.0 / 24.0;
+  p = p * f + 1.0 / 6.0;
+  p = p * f + 0.5;
+  p = p * f + 1.0;
+  p = p * f + 1.0;
+  const std::uint64_t bits = static_cast<std::uint64_t>(static_cast<std::int64_t>(k) + 1023) << 52;
+  double scale;
+  std::memcpy(&scale, &bits, sizeof(scale));
+  return p * scale;
+}
 
 }  // namespace detail
 
@@ -141,8 +167,7 @@ void WeightedNDT2D<PointSource, PointTarget>::buildTargetModel() {
 
 template <typename PointSource, typename PointTarget>
 void WeightedNDT2D<PointSource, PointTarget>::buildGrid(detail::NdtGrid& grid, double g) const {
-  grid.resolution = g;
-  grid.lookup = lookup_;
+  grid.setLookup(g, lookup_);
   grid.cells.clear();
   grid.index.clear();
 
@@ -164,95 +189,95 @@ void WeightedNDT2D<PointSource, PointTarget>::buildGrid(detail::NdtGrid& grid, d
   // Relative and absolute eigenvalue floors: (1 % of g)² keeps single-line cells invertible.
   const double abs_floor = (0.01 * g) * (0.01 * g);
   const int n_grids = lookup_ == CellLookup::OverlappingGrids ? 4 : 1;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(pts.size());
 
+  // Per cell, one pass in point order (deterministic): sums of w, w·d, w·d dᵀ and w·Σᵢ with d the
+  // point relative to its cell's corner (|d| < g keeps the one-pass covariance well conditioned).
+  struct Accumulator {
+    std::int32_t cx, cy;
+    int count;
+    double sw, sx, sy, sxx, sxy, syy, cxx, cxy, cyy;
+  };
   for (int k = 0; k < n_grids; ++k) {
     const int kx = k & 1, ky = (k >> 1) & 1;  // half-cell offsets of this grid
     const double ox = 0.5 * g * kx, oy = 0.5 * g * ky;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      const std::int32_t cx = detail::floorToInt((pts[i].x - ox) / g), cy = detail::floorToInt((pts[i].y - oy) / g);
-      keyed[i] = {(static_cast<std::uint64_t>(static_cast<std::uint32_t>(cx)) << 32) | static_cast<std::uint32_t>(cy),
-                  static_cast<std::uint32_t>(i)};
+    std::vector<Accumulator> acc;
+    acc.reserve(pts.size() / 4 + 16);
+    detail::KeyIndexMap map(pts.size() / 4 + 16);
+    for (const TargetPoint& p : pts) {
+      const double u = (p.x - ox) / g, v = (p.y - oy) / g;
+      if (!(std::abs(u) < 1e9 && std::abs(v) < 1e9)) continue;  // beyond any sensible extent
+      const std::int32_t cx = detail::floorToInt(u), cy = detail::floorToInt(v);
+      bool inserted = false;
+      const std::int32_t i =
+          map.findOrInsert(detail::KeyIndexMap::pack(cx, cy), static_cast<std::int32_t>(acc.size()), inserted);
+      if (inserted) acc.push_back(Accumulator{cx, cy, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+      Accumulator& a = acc[static_cast<std::size_t>(i)];
+      const double dx = p.x - (cx * g + ox), dy = p.y - (cy * g + oy);
+      ++a.count;
+      a.sw += p.w;
+      a.sx += p.w * dx;
+      a.sy += p.w * dy;
+      a.sxx += p.w * dx * dx;
+      a.sxy += p.w * dx * dy;
+      a.syy += p.w * dy * dy;
+      a.cxx += p.w * p.cov.x();
+      a.cxy += p.w * p.cov.y();
+      a.cyy += p.w * p.cov.z();
     }
-    // Sorting groups each cell's points together in a fixed order (deterministic sums).
-    std::sort(keyed.begin(), keyed.end());
-    for (std::size_t b = 0; b < keyed.size();) {
-      std::size_t e = b;
-      while (e < keyed.size() && keyed[e].first == keyed[b].first) ++e;
-      const int count = static_cast<int>(e - b);
-      if (count >= min_points_per_cell_) {
-        double sw = 0, mx = 0, my = 0;
-        for (std::size_t j = b; j < e; ++j) {
-          const TargetPoint& p = pts[keyed[j].second];
-          sw += p.w;
-          mx += p.w * p.x;
-          my += p.w * p.y;
-        }
-        mx /= sw;
-        my /= sw;
-        double cxx = 0, cxy = 0, cyy = 0;  // Σ w [(p − μ)(p − μ)ᵀ + Σᵢ]
-        for (std::size_t j = b; j < e; ++j) {
-          const TargetPoint& p = pts[keyed[j].second];
-          const double dx = p.x - mx, dy = p.y - my;
-          cxx += p.w * (dx * dx + p.cov.x());
-          cxy += p.w * (dx * dy + p.cov.y());
-          cyy += p.w * (dy * dy + p.cov.z());
-        }
-        cxx /= sw;
-        cxy /= sw;
-        cyy /= sw;
-        // Eigen-decomposition of the 2x2 covariance, closed form; floor the small eigenvalue.
-        const double tr_half = 0.5 * (cxx + cyy);
-        const double disc = std::sqrt(std::max(0.0, 0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy));
-        double l1 = tr_half + disc, l2 = tr_half - disc;
-        l1 = std::max(l1, abs_floor);
-        l2 = std::max({l2, eigen_ratio_ * l1, abs_floor});
-        // eigenvector of l1
-        double vx, vy;
-        if (std::abs(cxy) > 1e-12 * (std::abs(cxx) + std::abs(cyy))) {
-          vx = (tr_half + disc) - cyy;
-          vy = cxy;
-        } else if (cxx >= cyy) {
-          vx = 1;
-          vy = 0;
-        } else {
-          vx = 0;
-          vy = 1;
-        }
-        const double n = std::hypot(vx, vy);
-        vx /= n;
-        vy /= n;
-        // Σ⁻¹ = v vᵀ / l1 + u uᵀ / l2, u ⟂ v
-        const double a = 1.0 / l1, c = 1.0 / l2;
-        detail::NdtCell cell;
-        cell.mx = mx;
-        cell.my = my;
-        cell.ixx = a * vx * vx + c * vy * vy;
-        cell.ixy = (a - c) * vx * vy;
-        cell.iyy = a * vy * vy + c * vx * vx;
-        cell.weight = sw;
-        const auto idx = static_cast<std::int32_t>(grid.cells.size());
-        grid.cells.push_back(cell);
-        const std::int32_t cx = static_cast<std::int32_t>(keyed[b].first >> 32);
-        const std::int32_t cy = static_cast<std::int32_t>(keyed[b].first & 0xffffffffu);
-        if (lookup_ == CellLookup::Neighbours) {
-          // Lookup key: the grid vertex nearest the query point; cell (cx, cy) has vertices
-          // (cx..cx+1, cy..cy+1), so each vertex lists the 2x2 block of cells around it.
-          grid.index.add(cx, cy, idx);
-          grid.index.add(cx + 1, cy, idx);
-          grid.index.add(cx, cy + 1, idx);
-          grid.index.add(cx + 1, cy + 1, idx);
-        } else {
-          // Lookup key: the half-size cell the query point falls in; this cell of grid k covers
-          // half-cells (2cx + kx .. 2cx + kx + 1, 2cy + ky .. 2cy + ky + 1).
-          const std::int32_t hx = 2 * cx + kx, hy = 2 * cy + ky;
-          grid.index.add(hx, hy, idx);
-          grid.index.add(hx + 1, hy, idx);
-          grid.index.add(hx, hy + 1, idx);
-          grid.index.add(hx + 1, hy + 1, idx);
-        }
+    for (const Accumulator& a : acc) {
+      if (a.count < min_points_per_cell_) continue;
+      const double mdx = a.sx / a.sw, mdy = a.sy / a.sw;  // mean relative to the corner
+      // Σ = Σ w [(p − μ)(p − μ)ᵀ + Σᵢ] / Σ w
+      const double cxx = std::max(0.0, a.sxx / a.sw - mdx * mdx) + a.cxx / a.sw;
+      const double cxy = a.sxy / a.sw - mdx * mdy + a.cxy / a.sw;
+      const double cyy = std::max(0.0, a.syy / a.sw - mdy * mdy) + a.cyy / a.sw;
+      // Eigen-decomposition of the 2x2 covariance, closed form; floor the small eigenvalue.
+      const double tr_half = 0.5 * (cxx + cyy);
+      const double disc = std::sqrt(std::max(0.0, 0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy));
+      double l1 = tr_half + disc, l2 = tr_half - disc;
+      l1 = std::max(l1, abs_floor);
+      l2 = std::max({l2, eigen_ratio_ * l1, abs_floor});
+      double vx, vy;  // unit eigenvector of the large eigenvalue
+      if (std::abs(cxy) > 1e-12 * (std::abs(cxx) + std::abs(cyy))) {
+        vx = (tr_half + disc) - cyy;
+        vy = cxy;
+      } else if (cxx >= cyy) {
+        vx = 1;
+        vy = 0;
+      } else {
+        vx = 0;
+        vy = 1;
       }
-      b = e;
+      const double n = std::hypot(vx, vy);
+      vx /= n;
+      vy /= n;
+      // Σ⁻¹ = v vᵀ / l1 + u uᵀ / l2, u ⟂ v
+      const double ia = 1.0 / l1, ic = 1.0 / l2;
+      detail::NdtCell cell;
+      cell.mx = a.cx * g + ox + mdx;
+      cell.my = a.cy * g + oy + mdy;
+      cell.ixx = ia * vx * vx + ic * vy * vy;
+      cell.ixy = (ia - ic) * vx * vy;
+      cell.iyy = ia * vy * vy + ic * vx * vx;
+      cell.weight = a.sw;
+      const auto idx = static_cast<std::int32_t>(grid.cells.size());
+      grid.cells.push_back(cell);
+      if (lookup_ == CellLookup::Neighbours) {
+        // Lookup key: the grid vertex nearest the query point; cell (cx, cy) has vertices
+        // (cx..cx+1, cy..cy+1), so each vertex lists the 2x2 block of cells around it.
+        grid.index.add(a.cx, a.cy, idx);
+        grid.index.add(a.cx + 1, a.cy, idx);
+        grid.index.add(a.cx, a.cy + 1, idx);
+        grid.index.add(a.cx + 1, a.cy + 1, idx);
+      } else {
+        // Lookup key: the half-size cell the query point falls in; this cell of grid k covers
+        // half-cells (2cx + kx .. 2cx + kx + 1, 2cy + ky .. 2cy + ky + 1).
+        const std::int32_t hx = 2 * a.cx + kx, hy = 2 * a.cy + ky;
+        grid.index.add(hx, hy, idx);
+        grid.index.add(hx + 1, hy, idx);
+        grid.index.add(hx, hy + 1, idx);
+        grid.index.add(hx + 1, hy + 1, idx);
+      }
     }
   }
 }
@@ -273,12 +298,39 @@ void WeightedNDT2D<PointSource, PointTarget>::prepareSource() {
     if (!(w > 0.0) || !std::isfinite(w)) continue;
     source_points_.push_back({p.x, p.y, w});
   }
+  // Optional reduction: points in one small voxel become one point at their weighted centroid with
+  // their summed weight. The cost Σ wᵢ exp(−½ qᵢᵀΣ⁻¹qᵢ) barely changes while the voxel is small
+  // against the cells' spread; evaluation time drops with the point count.
+  const double v = source_voxel_size_ > 0 ? source_voxel_size_ : 0.0;
+  if (v > 0 && source_points_.size() > 1) {
+    std::vector<detail::WeightedPoint2D> merged;  // (Σ w x, Σ w y, Σ w), in order of first point
+    merged.reserve(source_points_.size());
+    detail::KeyIndexMap map(source_points_.size());
+    for (const auto& p : source_points_) {
+      const double u = p.x / v, w = p.y / v;
+      if (!(std::abs(u) < 1e9 && std::abs(w) < 1e9)) continue;  // beyond any sensible extent
+      bool inserted = false;
+      const std::int32_t i = map.findOrInsert(detail::KeyIndexMap::pack(detail::floorToInt(u), detail::floorToInt(w)),
+                                              static_cast<std::int32_t>(merged.size()), inserted);
+      if (inserted) merged.push_back({0, 0, 0});
+      auto& m = merged[static_cast<std::size_t>(i)];
+      m.x += p.w * p.x;
+      m.y += p.w * p.y;
+      m.w += p.w;
+    }
+    for (auto& m : merged) {
+      m.x /= m.w;
+      m.y /= m.w;
+    }
+    source_points_.swap(merged);
+  }
 }
 
 template <typename PointSource, typename PointTarget>
 double WeightedNDT2D<PointSource, PointTarget>::evaluate(const detail::NdtGrid& grid, const Eigen::Vector3d& x,
                                                          Eigen::Vector3d* gradient, Eigen::Matrix3d* hessian,
-                                                         std::size_t* matched, Eigen::Matrix3d* information) const {
+                                                         std::size_t* matched, Eigen::Matrix3d* information,
+                                                         std::size_t stride) const {
   // Points farther than this (squared Mahalanobis) from a cell contribute < e^-15 of their weight.
   constexpr double kMaxMahalanobis = 30.0;
   const double c = std::cos(x.z()), s = std::sin(x.z());
@@ -288,7 +340,8 @@ double WeightedNDT2D<PointSource, PointTarget>::evaluate(const detail::NdtGrid& 
   double h00 = 0, h01 = 0, h02 = 0, h11 = 0, h12 = 0, h22 = 0;
   double i00 = 0, i01 = 0, i02 = 0, i11 = 0, i12 = 0, i22 = 0;
   std::size_t n_matched = 0;
-  for (const auto& p : source_points_) {
+  for (std::size_t i = 0; i < source_points_.size(); i += stride) {
+    const auto& p = source_points_[i];
     const double rx = c * p.x - s * p.y, ry = s * p.x + c * p.y;  // R p
     const double qx = rx + tx, qy = ry + ty;
     const std::int32_t* slots = grid.cellsNear(qx, qy);
@@ -303,7 +356,7 @@ double WeightedNDT2D<PointSource, PointTarget>::evaluate(const detail::NdtGrid& 
       const double m = dx * ax + dy * ay;
       if (m > kMaxMahalanobis) continue;
       hit = true;
-      const double e = p.w * std::exp(-0.5 * m);
+      const double e = p.w * detail::expNegative(-0.5 * m);  // m <= 30: argument in [-15, 0]
       value -= e;
       if (!gradient) continue;
       const double a2 = ax * jx + ay * jy;  // dᵀ Σ⁻¹ ∂q/∂yaw
@@ -375,59 +428,81 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
     return;
   }
 
+  // Far from the optimum precision does not matter: each stage first iterates on a deterministic
+  // 1-in-kSubsample subsample of the source (every k-th point in voxel order, spread over the
+  // scan) until its steps fall under 1 cm and 1 mrad, then finishes on all points with the user's
+  // epsilons. The fine phase starts close to the optimum and needs few Newton steps.
+  constexpr std::size_t kSubsample = 4;
+  const bool coarse_phase = source_points_.size() >= 16 * kSubsample;
   bool stage_converged = false;
   for (const auto& grid : grids_) {
     const double max_t = max_step_translation_ > 0 ? max_step_translation_ : 0.5 * grid.resolution;
-    Eigen::Vector3d g;
-    Eigen::Matrix3d H;
-    double f = evaluate(grid, x, &g, &H);
-    stage_converged = false;
-    for (int iter = 0; iter < max_iterations_; ++iter) {
-      ++final_num_iterations_;
-      // Newton direction with a positive definite Hessian: eigenvalues mirrored and floored.
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(H);
-      Eigen::Vector3d lambda = es.eigenvalues().cwiseAbs();
-      const double lmax = lambda.maxCoeff();
-      if (!(lmax > 0) || !std::isfinite(lmax)) break;  // no point matched: nothing to optimise
-      for (int i = 0; i < 3; ++i) lambda(i) = std::max(lambda(i), 1e-6 * lmax);
-      Eigen::Vector3d step = -es.eigenvectors() * (lambda.cwiseInverse().asDiagonal() * (es.eigenvectors().transpose() * g));
-      // Limit the step, then backtrack until the score improves enough (Armijo).
-      const double tnorm = step.head<2>().norm();
-      double scale = 1.0;
-      if (tnorm > max_t) scale = max_t / tnorm;
-      if (std::abs(step.z()) * scale > max_step_rotation_) scale = max_step_rotation_ / std::abs(step.z());
-      step *= scale;
-      const double slope = g.dot(step);  // < 0 for a descent direction
-      double alpha = 1.0;
-      bool accepted = false;
-      Eigen::Vector3d gn;
-      Eigen::Matrix3d Hn;
-      double fn = f;
-      for (int ls = 0; ls < 12; ++ls) {
-        fn = evaluate(grid, x + alpha * step, &gn, &Hn);
-        if (fn <= f + 1e-4 * alpha * slope) {
-          accepted = true;
+    int stage_iterations = 0;  // setMaximumIterations bounds both phases of a stage together
+    for (int phase = coarse_phase ? 0 : 1; phase < 2; ++phase) {
+      const std::size_t stride = phase == 0 ? kSubsample : 1;
+      const double eps_t = phase == 0 ? std::max(1e-4, transformation_epsilon_) : transformation_epsilon_;
+      const double eps_r = phase == 0 ? std::min(std::cos(1e-3), transformation_rotation_epsilon_)
+                                      : transformation_rotation_epsilon_;
+      Eigen::Vector3d g;
+      Eigen::Matrix3d H;
+      double f = evaluate(grid, x, &g, &H, nullptr, nullptr, stride);
+      stage_converged = false;
+      while (stage_iterations < max_iterations_) {
+        ++stage_iterations;
+        ++final_num_iterations_;
+        // Newton direction with a positive definite Hessian: eigenvalues mirrored and floored.
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(H);
+        Eigen::Vector3d lambda = es.eigenvalues().cwiseAbs();
+        const double lmax = lambda.maxCoeff();
+        if (!(lmax > 0) || !std::isfinite(lmax)) break;  // no point matched: nothing to optimise
+        for (int i = 0; i < 3; ++i) lambda(i) = std::max(lambda(i), 1e-6 * lmax);
+        Eigen::Vector3d step =
+            -es.eigenvectors() * (lambda.cwiseInverse().asDiagonal() * (es.eigenvectors().transpose() * g));
+        // Limit the step, then backtrack until the score improves enough (Armijo).
+        const double tnorm = step.head<2>().norm();
+        double scale = 1.0;
+        if (tnorm > max_t) scale = max_t / tnorm;
+        if (std::abs(step.z()) * scale > max_step_rotation_) scale = max_step_rotation_ / std::abs(step.z());
+        step *= scale;
+        const double slope = g.dot(step);  // < 0 for a descent direction
+        // The full step usually passes, so it is evaluated with derivatives; shorter trials are
+        // value-only and the derivatives are computed once one of them passes.
+        double alpha = 1.0;
+        bool accepted = false, have_derivatives = false;
+        double fn = f;
+        Eigen::Vector3d gn;
+        Eigen::Matrix3d Hn;
+        for (int ls = 0; ls < 12; ++ls) {
+          fn = ls == 0 ? evaluate(grid, x + step, &gn, &Hn, nullptr, nullptr, stride)
+                       : evaluate(grid, x + alpha * step, nullptr, nullptr, nullptr, nullptr, stride);
+          if (fn <= f + 1e-4 * alpha * slope) {
+            accepted = true;
+            have_derivatives = ls == 0;
+            break;
+          }
+          alpha *= 0.5;
+        }
+        const Eigen::Vector3d applied = alpha * step;
+        const bool small = applied.head<2>().squaredNorm() < eps_t && std::cos(applied.z()) >= eps_r;
+        if (!accepted) {
+          // No step along a descent direction improves the score: at the optimum to numerical
+          // precision when the predicted decrease is negligible, otherwise stuck (not converged).
+          stage_converged = small || std::abs(slope) < 1e-6 * std::max(1e-12, std::abs(f));
           break;
         }
-        alpha *= 0.5;
-      }
-      const Eigen::Vector3d applied = alpha * step;
-      const bool small = applied.head<2>().squaredNorm() < transformation_epsilon_ &&
-                         std::cos(applied.z()) >= transformation_rotation_epsilon_;
-      if (!accepted) {
-        // No step along a descent direction improves the score: at the optimum to numerical
-        // precision when the predicted decrease is negligible, otherwise stuck (not converged).
-        stage_converged = small || std::abs(slope) < 1e-6 * std::max(1e-12, std::abs(f));
-        break;
-      }
-      x += applied;
-      x.z() = normalizeAngle(x.z());
-      f = fn;
-      g = gn;
-      H = Hn;
-      if (small) {
-        stage_converged = true;
-        break;
+        x += applied;
+        x.z() = normalizeAngle(x.z());
+        if (small) {
+          stage_converged = true;
+          break;
+        }
+        if (have_derivatives) {
+          f = fn;
+          g = gn;
+          H = Hn;
+        } else {
+          f = evaluate(grid, x, &g, &H, nullptr, nullptr, stride);
+        }
       }
     }
   }

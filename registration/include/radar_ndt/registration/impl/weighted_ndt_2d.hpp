@@ -435,7 +435,15 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
   constexpr std::size_t kSubsample = 4;
   const bool coarse_phase = source_points_.size() >= 16 * kSubsample;
   bool stage_converged = false;
+  // The last full evaluation at the current x on the finest grid, with the information matrix and
+  // matched count, so the diagnostics below need no extra pass when the loop ends there.
+  bool final_eval_valid = false;
+  Eigen::Matrix3d info = Eigen::Matrix3d::Zero(), info_n;
+  std::size_t matched = 0, matched_n = 0;
+  double final_f = 0;
+  Eigen::Matrix3d final_H = Eigen::Matrix3d::Zero();
   for (const auto& grid : grids_) {
+    const bool finest = &grid == &grids_.back();
     const double max_t = max_step_translation_ > 0 ? max_step_translation_ : 0.5 * grid.resolution;
     int stage_iterations = 0;  // setMaximumIterations bounds both phases of a stage together
     for (int phase = coarse_phase ? 0 : 1; phase < 2; ++phase) {
@@ -443,9 +451,11 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
       const double eps_t = phase == 0 ? std::max(1e-4, transformation_epsilon_) : transformation_epsilon_;
       const double eps_r = phase == 0 ? std::min(std::cos(1e-3), transformation_rotation_epsilon_)
                                       : transformation_rotation_epsilon_;
+      const bool diagnose = finest && phase == 1;  // also compute what the diagnostics need
       Eigen::Vector3d g;
       Eigen::Matrix3d H;
-      double f = evaluate(grid, x, &g, &H, nullptr, nullptr, stride);
+      double f = evaluate(grid, x, &g, &H, diagnose ? &matched : nullptr, diagnose ? &info : nullptr, stride);
+      final_eval_valid = diagnose;
       stage_converged = false;
       while (stage_iterations < max_iterations_) {
         ++stage_iterations;
@@ -473,7 +483,8 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
         Eigen::Vector3d gn;
         Eigen::Matrix3d Hn;
         for (int ls = 0; ls < 12; ++ls) {
-          fn = ls == 0 ? evaluate(grid, x + step, &gn, &Hn, nullptr, nullptr, stride)
+          fn = ls == 0 ? evaluate(grid, x + step, &gn, &Hn, diagnose ? &matched_n : nullptr,
+                                  diagnose ? &info_n : nullptr, stride)
                        : evaluate(grid, x + alpha * step, nullptr, nullptr, nullptr, nullptr, stride);
           if (fn <= f + 1e-4 * alpha * slope) {
             accepted = true;
@@ -492,26 +503,37 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
         }
         x += applied;
         x.z() = normalizeAngle(x.z());
-        if (small) {
-          stage_converged = true;
-          break;
-        }
         if (have_derivatives) {
           f = fn;
           g = gn;
           H = Hn;
-        } else {
-          f = evaluate(grid, x, &g, &H, nullptr, nullptr, stride);
+          info = info_n;
+          matched = matched_n;
         }
+        if (small) {
+          stage_converged = true;
+          final_eval_valid = diagnose && have_derivatives;
+          break;
+        }
+        if (!have_derivatives)
+          f = evaluate(grid, x, &g, &H, diagnose ? &matched : nullptr, diagnose ? &info : nullptr, stride);
+      }
+      if (diagnose) {
+        final_f = f;
+        final_H = H;
       }
     }
   }
 
-  // Final diagnostics on the finest grid.
-  const auto& fine = grids_.back();
-  Eigen::Vector3d g;
-  Eigen::Matrix3d info;
-  final_score_ = -evaluate(fine, x, &g, &final_hessian_, &num_matched_points_, &info);
+  // Final diagnostics on the finest grid, at x (reusing the loop's last evaluation when it was there).
+  if (final_eval_valid) {
+    final_score_ = -final_f;
+    final_hessian_ = final_H;
+    num_matched_points_ = matched;
+  } else {
+    Eigen::Vector3d g;
+    final_score_ = -evaluate(grids_.back(), x, &g, &final_hessian_, &num_matched_points_, &info);
+  }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(info);
   const double imax = es.eigenvalues().maxCoeff(), imin = es.eigenvalues().minCoeff();
   if (num_matched_points_ < 3 || !(imax > 0) || !(imin > 1e-9 * imax)) {

@@ -113,12 +113,19 @@ int main(int argc, char** argv) {
     std::vector<Method> methods;
     char buf[256];
     std::snprintf(buf, sizeof(buf), "g=%.2f m, s=%.2f, neighbour-cell lookup, source voxel 0.25 m, max 35 it, eps 1e-6 m^2", grid, shift);
-    methods.push_back({"radar_ndt::WeightedNDT2D", buf, [=]() -> Reg::Ptr {
-                         auto r = pcl::make_shared<WeightedNDT2D<PointT, PointT>>();
-                         r->setResolution(static_cast<float>(grid));
-                         r->setPowerShift(static_cast<float>(shift));
-                         return r;
-                       }});
+    // Ours with the benchmark's g and s; the variants change one setting each.
+    const auto ours = [=](CellLookup lookup, double voxel) {
+      return [=]() -> Reg::Ptr {
+        auto r = pcl::make_shared<WeightedNDT2D<PointT, PointT>>();
+        r->setResolution(static_cast<float>(grid));
+        r->setPowerShift(static_cast<float>(shift));
+        r->setCellLookup(lookup);
+        r->setSourceVoxelSize(voxel);
+        return r;
+      };
+    };
+    const double default_voxel = WeightedNDT2D<PointT, PointT>().getSourceVoxelSize();
+    methods.push_back({"radar_ndt::WeightedNDT2D", buf, ours(CellLookup::Neighbours, default_voxel)});
     std::snprintf(buf, sizeof(buf), "resolution=%.2f m, step 0.5, eps 1e-4, max 50 it", grid);
     methods.push_back({"pcl::NormalDistributionsTransform", buf, [=]() -> Reg::Ptr {
                          auto r = pcl::make_shared<pcl::NormalDistributionsTransform<PointT, PointT>>();
@@ -130,21 +137,9 @@ int main(int argc, char** argv) {
                        }});
     if (vm["variants"].as<bool>()) {
       std::snprintf(buf, sizeof(buf), "as above, Biber's four overlapping grids");
-      methods.push_back({"WeightedNDT2D overlapping grids", buf, [=]() -> Reg::Ptr {
-                           auto r = pcl::make_shared<WeightedNDT2D<PointT, PointT>>();
-                           r->setResolution(static_cast<float>(grid));
-                           r->setPowerShift(static_cast<float>(shift));
-                           r->setCellLookup(CellLookup::OverlappingGrids);
-                           return r;
-                         }});
+      methods.push_back({"WeightedNDT2D overlapping grids", buf, ours(CellLookup::OverlappingGrids, default_voxel)});
       std::snprintf(buf, sizeof(buf), "as above (neighbour cells), no source voxel merge");
-      methods.push_back({"WeightedNDT2D no voxel merge", buf, [=]() -> Reg::Ptr {
-                           auto r = pcl::make_shared<WeightedNDT2D<PointT, PointT>>();
-                           r->setResolution(static_cast<float>(grid));
-                           r->setPowerShift(static_cast<float>(shift));
-                           r->setSourceVoxelSize(0.0);
-                           return r;
-                         }});
+      methods.push_back({"WeightedNDT2D no voxel merge", buf, ours(CellLookup::Neighbours, 0.0)});
     }
     if (with_ndt2d) {
       std::snprintf(buf, sizeof(buf), "grid step %.2f m, extent 130 m, centre 0, PCL defaults otherwise", grid);

@@ -24,7 +24,7 @@ void CellIndexHash::reserve(std::size_t keys) {
   mask_ = cap - 1;
   for (const Entry& e : old) {
     if (e.slots[0] < 0) continue;
-    std::size_t h = mix(e.key) & mask_;
+    std::size_t h = hashKey(e.key) & mask_;
     while (entries_[h].slots[0] >= 0) h = (h + 1) & mask_;
     entries_[h] = e;
   }
@@ -32,8 +32,8 @@ void CellIndexHash::reserve(std::size_t keys) {
 
 void CellIndexHash::add(std::int32_t ix, std::int32_t iy, std::int32_t cell) {
   if (2 * (size_ + 1) > entries_.size()) reserve(2 * (size_ + 1));
-  const std::uint64_t key = pack(ix, iy);
-  std::size_t h = mix(key) & mask_;
+  const std::uint64_t key = packKey(ix, iy);
+  std::size_t h = hashKey(key) & mask_;
   while (entries_[h].slots[0] >= 0 && entries_[h].key != key) h = (h + 1) & mask_;
   Entry& e = entries_[h];
   if (e.slots[0] < 0) {

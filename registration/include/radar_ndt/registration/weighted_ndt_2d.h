@@ -78,6 +78,20 @@ class LazyKdTree : public pcl::search::KdTree<PointT> {
   mutable bool built_ = false;
 };
 
+/// A 2D integer cell or voxel coordinate packed into one 64-bit key, and the hash both maps below
+/// use (splitmix64's finaliser).
+inline std::uint64_t packKey(std::int32_t ix, std::int32_t iy) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(ix)) << 32) | static_cast<std::uint32_t>(iy);
+}
+inline std::uint64_t hashKey(std::uint64_t k) {
+  k ^= k >> 30;
+  k *= 0xbf58476d1ce4e5b9ULL;
+  k ^= k >> 27;
+  k *= 0x94d049bb133111ebULL;
+  k ^= k >> 31;
+  return k;
+}
+
 /// Open-addressing hash from a 2D integer key to up to four cell indices (-1 = none). Memory is
 /// linear in the number of keys; there is no dense grid over the extent.
 class CellIndexHash {
@@ -89,8 +103,8 @@ class CellIndexHash {
   /// The four slots of (ix, iy), or nullptr when the key is absent.
   inline const std::int32_t* find(std::int32_t ix, std::int32_t iy) const {
     if (size_ == 0) return nullptr;
-    const std::uint64_t key = pack(ix, iy);
-    std::size_t h = mix(key) & mask_;
+    const std::uint64_t key = packKey(ix, iy);
+    std::size_t h = hashKey(key) & mask_;
     while (entries_[h].slots[0] >= 0) {
       if (entries_[h].key == key) return entries_[h].slots;
       h = (h + 1) & mask_;
@@ -101,17 +115,6 @@ class CellIndexHash {
   std::size_t memoryBytes() const;
 
  private:
-  static std::uint64_t pack(std::int32_t ix, std::int32_t iy) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(ix)) << 32) | static_cast<std::uint32_t>(iy);
-  }
-  static std::uint64_t mix(std::uint64_t k) {  // splitmix64 finaliser
-    k ^= k >> 30;
-    k *= 0xbf58476d1ce4e5b9ULL;
-    k ^= k >> 27;
-    k *= 0x94d049bb133111ebULL;
-    k ^= k >> 31;
-    return k;
-  }
   /// Key and its four slots in one 24-byte entry: a lookup touches one cache line. An entry is
   /// empty while slots[0] < 0 (an occupied key always has a first slot).
   struct Entry {
@@ -134,10 +137,11 @@ class KeyIndexMap {
     index_.assign(cap, -1);
     mask_ = cap - 1;
   }
-  /// The index of `key`, inserting it with index `next` when absent (then `inserted` is true).
-  inline std::int32_t findOrInsert(std::uint64_t key, std::int32_t next, bool& inserted) {
+  /// The index of key (ix, iy), inserting it with index `next` when absent (then `inserted` is true).
+  inline std::int32_t findOrInsert(std::int32_t ix, std::int32_t iy, std::int32_t next, bool& inserted) {
     if (2 * (count_ + 1) > keys_.size()) grow();
-    std::size_t h = mix(key) & mask_;
+    const std::uint64_t key = packKey(ix, iy);
+    std::size_t h = hashKey(key) & mask_;
     while (index_[h] >= 0) {
       if (keys_[h] == key) {
         inserted = false;
@@ -151,17 +155,8 @@ class KeyIndexMap {
     inserted = true;
     return next;
   }
-  static std::uint64_t pack(std::int32_t ix, std::int32_t iy) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(ix)) << 32) | static_cast<std::uint32_t>(iy);
-  }
 
  private:
-  static std::uint64_t mix(std::uint64_t k) {
-    k ^= k >> 33;
-    k *= 0xff51afd7ed558ccdULL;
-    k ^= k >> 33;
-    return k;
-  }
   void grow() {
     std::vector<std::uint64_t> keys;
     std::vector<std::int32_t> index;
@@ -172,7 +167,7 @@ class KeyIndexMap {
     mask_ = keys_.size() - 1;
     for (std::size_t i = 0; i < keys.size(); ++i) {
       if (index[i] < 0) continue;
-      std::size_t h = mix(keys[i]) & mask_;
+      std::size_t h = hashKey(keys[i]) & mask_;
       while (index_[h] >= 0) h = (h + 1) & mask_;
       keys_[h] = keys[i];
       index_[h] = index[i];

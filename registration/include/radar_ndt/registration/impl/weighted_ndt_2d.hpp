@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <cstring>
+#include <numeric>
 
 #include <Eigen/Eigenvalues>
 #include <pcl/common/transforms.h>
@@ -208,8 +208,7 @@ void WeightedNDT2D<PointSource, PointTarget>::buildGrid(detail::NdtGrid& grid, d
       if (!(std::abs(u) < 1e9 && std::abs(v) < 1e9)) continue;  // beyond any sensible extent
       const std::int32_t cx = detail::floorToInt(u), cy = detail::floorToInt(v);
       bool inserted = false;
-      const std::int32_t i =
-          map.findOrInsert(detail::KeyIndexMap::pack(cx, cy), static_cast<std::int32_t>(acc.size()), inserted);
+      const std::int32_t i = map.findOrInsert(cx, cy, static_cast<std::int32_t>(acc.size()), inserted);
       if (inserted) acc.push_back(Accumulator{cx, cy, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
       Accumulator& a = acc[static_cast<std::size_t>(i)];
       const double dx = p.x - (cx * g + ox), dy = p.y - (cy * g + oy);
@@ -301,7 +300,7 @@ void WeightedNDT2D<PointSource, PointTarget>::prepareSource() {
   // Optional reduction: points in one small voxel become one point at their weighted centroid with
   // their summed weight. The cost Σ wᵢ exp(−½ qᵢᵀΣ⁻¹qᵢ) barely changes while the voxel is small
   // against the cells' spread; evaluation time drops with the point count.
-  const double v = source_voxel_size_ > 0 ? source_voxel_size_ : 0.0;
+  const double v = source_voxel_size_;  // >= 0, the setter clamps it
   if (v > 0 && source_points_.size() > 1) {
     std::vector<detail::WeightedPoint2D> merged;  // (Σ w x, Σ w y, Σ w), in order of first point
     merged.reserve(source_points_.size());
@@ -310,7 +309,7 @@ void WeightedNDT2D<PointSource, PointTarget>::prepareSource() {
       const double u = p.x / v, w = p.y / v;
       if (!(std::abs(u) < 1e9 && std::abs(w) < 1e9)) continue;  // beyond any sensible extent
       bool inserted = false;
-      const std::int32_t i = map.findOrInsert(detail::KeyIndexMap::pack(detail::floorToInt(u), detail::floorToInt(w)),
+      const std::int32_t i = map.findOrInsert(detail::floorToInt(u), detail::floorToInt(w),
                                               static_cast<std::int32_t>(merged.size()), inserted);
       if (inserted) merged.push_back({0, 0, 0});
       auto& m = merged[static_cast<std::size_t>(i)];

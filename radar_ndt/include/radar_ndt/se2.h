@@ -81,4 +81,19 @@ inline Eigen::Isometry3d toIsometry3(const Pose2& p) {
 /// The SE(2) part of a 3D isometry (x, y, yaw of the rotated x axis).
 inline Pose2 toPose2(const Eigen::Isometry3d& T) { return toPose2(T.matrix()); }
 
+/// The motion over `dt` seconds at constant body velocity v = (vx, vy, ω) (vehicle frame): the pose
+/// of the vehicle at t + dt in its frame at t, exp(v·dt) on SE(2) (exact along the arc).
+inline Pose2 integrateVelocity(const Eigen::Vector3d& v, double dt) {
+  const double th = v.z() * dt;
+  double a, b;  // sin θ / θ and (1 − cos θ) / θ, by series near 0
+  if (std::abs(th) < 1e-6) {
+    a = 1.0 - th * th / 6.0;
+    b = 0.5 * th;
+  } else {
+    a = std::sin(th) / th;
+    b = (1.0 - std::cos(th)) / th;
+  }
+  return Pose2((a * v.x() - b * v.y()) * dt, (b * v.x() + a * v.y()) * dt, th);
+}
+
 }  // namespace radar_ndt

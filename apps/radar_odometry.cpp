@@ -1,0 +1,306 @@
+// radar_odometry: radar odometry over a dataset sequence. --format nuscenes: the paper's automotive
+// pipeline (Doppler ego-velocity, probabilistic submap of N cycles, weighted NDT) on a nuScenes-
+// layout dataroot; --table reproduces the paper's nuScenes table on it.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+#include <pcl/console/time.h>
+
+#include "app_common.h"
+#include "radar_ndt/automotive_run.h"
+#include "radar_ndt/evaluation_plot.h"
+#include "radar_ndt/evaluation_report.h"
+#include "radar_ndt/io/atomic_file.h"
+#include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/trajectory_io.h"
+
+using namespace radar_ndt;
+namespace po = boost::program_options;
+using nlohmann::json;
+
+namespace {
+
+struct Progress {
+  bool enabled;
+  std::string label;
+  void operator()(std::size_t done, std::size_t total) const {
+    if (!enabled || (done % 10 != 0 && done != total)) return;
+    const int width = 30;
+    const int filled = total ? static_cast<int>(width * done / total) : width;
+    std::fprintf(stderr, "\r%-12s [%s%s] %zu/%zu", label.c_str(), std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                 std::string(static_cast<std::size_t>(width - filled), ' ').c_str(), done, total);
+    if (done == total) std::fprintf(stderr, "\n");
+  }
+};
+
+json metricsOf(const EvaluationReport& r) { return json::parse(metricsJson(r)); }
+
+json summaryJson(const AutomotiveRunResult& r) {
+  const auto& c = r.counters;
+  json j;
+  j["scene"] = r.scene;
+  j["reference_channel"] = r.reference_channel;
+  j["cycles"] = c.cycles;
+  j["cycle_period_s"] = r.period_s;
+  j["matched"] = c.matched;
+  j["retried"] = c.retried;
+  j["fallbacks"] = c.fallbacks;
+  j["fallback_rate"] = c.cycles ? static_cast<double>(c.fallbacks) / static_cast<double>(c.cycles) : 0.0;
+  j["dead_reckoned"] = c.dead_reckoned;
+  j["skipped"] = c.skipped;
+  j["invalid_velocity_cycles"] = r.invalid_velocity_cycles;
+  j["unreadable_files"] = r.problems.size();
+  j["detections"] = r.detections;
+  j["removed_moving"] = r.removed_moving;
+  j["median_doppler_residual_mps"] = r.median_doppler_residual;
+  j["ms_per_cycle_median"] = {{"read", r.median_ms.read_ms},       {"front_end", r.median_ms.front_end_ms},
+                              {"submap", r.median_ms.submap_ms},   {"match", r.median_ms.match_ms},
+                              {"total", r.median_total_ms}};
+  j["real_time_factor"] = r.median_total_ms > 0 ? 1000.0 * r.period_s / r.median_total_ms : 0.0;
+  return j;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string format, dataroot, version, scene_name, method_name, out_path, out_format_text, metric_text, plot_path, covariance,
+      reference_channel, steps_path;
+  std::size_t submap = 3, max_cycles = 0;
+  double grid = 3.0, max_range = 150.0, doppler_thr = 0.25;
+  bool no_gate = false, no_comp = false, keep_moving = false, eval = false, json_out = false, quiet = false, table = false;
+  po::options_description opts("Options");
+  // clang-format off
+  opts.add_options()
+    ("help,h", "print this help and exit")
+    ("format", po::value(&format)->required(), "dataset layout: nuscenes")
+    ("dataroot", po::value(&dataroot)->required(), "nuScenes-layout dataroot (holds v1.0-*/, samples/, sweeps/)")
+    ("version", po::value(&version)->default_value(""), "table folder under dataroot (default: the one holding sensor.json)")
+    ("scene", po::value(&scene_name)->default_value("all"), "scene name, or 'all' (each scene, then the mean)")
+    ("method", po::value(&method_name)->default_value("pw-ndt"), "pw-ndt (ours) | pcl-ndt | pcl-icp | doppler (Kellner's ego-velocity integration) | rapp-ndt (Doppler-weighted grid NDT)")
+    ("submap", po::value(&submap)->default_value(3), "N: radar cycles per submap")
+    ("grid", po::value(&grid)->default_value(3.0), "NDT grid size g (m); pcl-icp: max correspondence distance")
+    ("covariance", po::value(&covariance)->default_value("polar"), "point covariance: polar (ARS408 range/azimuth spec) | rms (reported x_rms/y_rms)")
+    ("reference-channel", po::value(&reference_channel)->default_value(""), "radar channel that clocks the cycles (default: the forward-facing one)")
+    ("doppler-threshold", po::value(&doppler_thr)->default_value(0.25), "ego-velocity RANSAC inlier and moving-detection threshold on |Doppler − predicted| (m/s)")
+    ("no-gate", po::bool_switch(&no_gate), "accept every converged match: no motion-prior or Doppler chi-square check (ablation)")
+    ("no-time-compensation", po::bool_switch(&no_comp), "do not move each radar's sweep to the reference time (ablation)")
+    ("keep-moving", po::bool_switch(&keep_moving), "do not remove detections that disagree with the Doppler ego-velocity (ablation)")
+    ("max-range", po::value(&max_range)->default_value(150.0), "drop detections beyond this range (m)")
+    ("max-cycles", po::value(&max_cycles)->default_value(0), "stop after this many cycles per scene (0: all)")
+    ("out", po::value(&out_path), "write the trajectory here (--scene all: one file per scene, NAME inserted before the extension)")
+    ("out-format", po::value(&out_format_text)->default_value("tum"), "kitti | tum (TUM keeps the cycle timestamps)")
+    ("steps", po::value(&steps_path), "write one CSV line per cycle: status, attempts, grid, chi2, motion, Doppler motion, points")
+    ("eval", po::bool_switch(&eval), "compare with the scene's ego poses")
+    ("metric", po::value(&metric_text)->default_value("1m"), "with --eval: kitti|1m|frame|ate|all, or a list")
+    ("json", po::bool_switch(&json_out), "print one JSON object (summary, and with --eval a \"metrics\" entry shaped as radar_eval's)")
+    ("plot", po::value(&plot_path), "with --eval: SVG of estimate vs ground truth (--scene all: one per scene)")
+    ("table", po::bool_switch(&table), "reproduce the paper's nuScenes table on every scene: N = 1, 3, 5, 10 for pcl-icp and pw-ndt, N = 1 for doppler and rapp-ndt; 1m metric, mean over scenes")
+    ("quiet,q", po::bool_switch(&quiet), "no progress bar");
+  // clang-format on
+  const std::string usage =
+      "Usage: radar_odometry --format nuscenes --dataroot DIR [--scene NAME|all] [--method pw-ndt|pcl-ndt|pcl-icp|doppler|rapp-ndt]\n"
+      "                      [--submap N] [--grid G] [--out traj.txt] [--out-format kitti|tum] [--eval] [--metric 1m|kitti|frame|all]\n"
+      "                      [--json] [--plot out.svg] [--table]\n"
+      "One pose per radar cycle (one sweep of every radar, clocked by the reference radar), the vehicle\n"
+      "frame at the reference sweep's timestamp. Unreadable sweeps are reported and left out of their cycle.";
+  po::variables_map vm;
+  const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
+  if (rc >= 0) return rc;
+
+  return apps::runGuarded("radar_odometry", [&]() {
+    if (format != "nuscenes")
+      throw std::invalid_argument("--format " + format + " is not supported (nuscenes; scanning formats come with the scanning pipeline)");
+    if (submap == 0) throw std::invalid_argument("--submap must be >= 1");
+    if (!(grid > 0)) throw std::invalid_argument("--grid must be > 0");
+    const std::vector<Metric> metrics = parseMetrics(metric_text);
+    const TrajectoryFormat out_format = parseTrajectoryFormat(out_format_text);
+    AutomotiveRunOptions options;
+    options.sequence.reference_channel = reference_channel;
+    options.sequence.filter.max_range = max_range;
+    options.front_end.covariance_model = parsePointCovarianceModel(covariance);
+    options.front_end.compensate_time = !no_comp;
+    if (!(doppler_thr > 0)) throw std::invalid_argument("--doppler-threshold must be > 0");
+    options.front_end.ego_velocity.inlier_threshold = doppler_thr;
+    options.front_end.remove_moving = !keep_moving;
+    options.odometry.submap_size = submap;
+    options.odometry.gate = !no_gate;
+    options.odometry.grid = grid;
+    options.max_cycles = max_cycles;
+    options = withMethod(options, parseMethod(method_name));
+
+    const NuScenesDataset dataset(dataroot, version);
+    std::vector<const NuScenesScene*> scenes;
+    if (scene_name == "all")
+      for (const auto& s : dataset.scenes()) scenes.push_back(&s);
+    else
+      scenes.push_back(&dataset.scene(scene_name));
+    const bool progress_on = !quiet && isatty(STDERR_FILENO);
+    auto fileFor = [&](const std::string& path, const std::string& scene) {
+      if (scenes.size() == 1) return path;
+      const auto dot = path.find_last_of('.');
+      const auto slash = path.find_last_of('/');
+      if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return path + "_" + scene;
+      return path.substr(0, dot) + "_" + scene + path.substr(dot);
+    };
+
+    if (table) {
+      // The paper's Table: rows N, columns ICP / ours / Kellner / Rapp, 1m metric, mean over scenes.
+      struct Cell {
+        double trans = 0, rot = 0, frame_t = 0, frame_r = 0, ms = 0, fallback = 0;
+        int n = 0;
+      };
+      const std::vector<std::pair<Method, std::vector<std::size_t>>> plan = {
+          {Method::PclIcp, {1, 3, 5, 10}}, {Method::PwNdt, {1, 3, 5, 10}}, {Method::Doppler, {1}}, {Method::RappNdt, {1}}};
+      std::map<std::pair<int, std::size_t>, Cell> cells;
+      for (const auto& [method, ns] : plan)
+        for (const std::size_t N : ns)
+          for (const auto* scene : scenes) {
+            AutomotiveRunOptions o = withMethod(options, method);
+            o.odometry.submap_size = N;
+            const AutomotiveRunResult r = runAutomotiveOdometry(dataset, *scene, o, Progress{progress_on, std::string(toString(method)) + " N=" + std::to_string(N)});
+            const PosePairs pairs = associate(r.ground_truth, r.estimate);
+            const EvaluationReport rep = evaluate(pairs, {Metric::OneMeter, Metric::Frame});
+            Cell& c = cells[{static_cast<int>(method), N}];
+            c.trans += rep.one_meter->trans_err_pct;
+            c.rot += rep.one_meter->rot_err_deg_per_m;
+            c.frame_t += rep.frame->trans_err_m;
+            c.frame_r += rep.frame->rot_err_deg;
+            c.ms += r.median_total_ms;
+            c.fallback += r.counters.cycles ? static_cast<double>(r.counters.fallbacks) / static_cast<double>(r.counters.cycles) : 0.0;
+            ++c.n;
+          }
+      json j = json::array();
+      std::ostringstream md;
+      md << "| N | ICP trans % | ICP deg/m | ours trans % | ours deg/m | Kellner trans % | Kellner deg/m | Rapp trans % | Rapp deg/m |\n"
+         << "|---|---|---|---|---|---|---|---|---|\n";
+      auto fmt = [](double v, int prec) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.*f", prec, v);
+        return std::string(b);
+      };
+      for (const std::size_t N : {1u, 3u, 5u, 10u}) {
+        md << "| " << N;
+        for (const Method m : {Method::PclIcp, Method::PwNdt, Method::Doppler, Method::RappNdt}) {
+          const auto it = cells.find({static_cast<int>(m), N});
+          if (it == cells.end()) {
+            md << " | | ";
+            continue;
+          }
+          const Cell& c = it->second;
+          const double k = 1.0 / c.n;
+          md << " | " << fmt(c.trans * k, 2) << " | " << fmt(c.rot * k, 3);
+          j.push_back({{"method", toString(m)}, {"submap", N}, {"trans_err_pct", c.trans * k}, {"rot_err_deg_per_m", c.rot * k},
+                       {"frame_trans_err_m", c.frame_t * k}, {"frame_rot_err_deg", c.frame_r * k}, {"ms_per_cycle", c.ms * k},
+                       {"fallback_rate", c.fallback * k}, {"scenes", c.n}});
+        }
+        md << " |\n";
+      }
+      std::ostringstream detail;
+      detail << "| method | N | frame trans (m) | frame rot (deg) | ms/cycle (median) | fallbacks |\n|---|---|---|---|---|---|\n";
+      for (const auto& e : j)
+        detail << "| " << e["method"].get<std::string>() << " | " << e["submap"].get<std::size_t>() << " | "
+               << fmt(e["frame_trans_err_m"].get<double>(), 4) << " | " << fmt(e["frame_rot_err_deg"].get<double>(), 4) << " | "
+               << fmt(e["ms_per_cycle"].get<double>(), 2) << " | " << fmt(100.0 * e["fallback_rate"].get<double>(), 1) << " % |\n";
+      if (json_out)
+        std::cout << json{{"table", j}}.dump(2) << std::endl;
+      else
+        std::cout << md.str() << "\n" << detail.str();
+      return 0;
+    }
+
+    json all = json::array();
+    std::vector<EvaluationReport> reports;
+    for (const auto* scene : scenes) {
+      const AutomotiveRunResult r = runAutomotiveOdometry(dataset, *scene, options, Progress{progress_on, scene->name});
+      for (const auto& p : r.problems) pcl::console::print_warn("%s: %s\n", scene->name.c_str(), p.c_str());
+      if (!out_path.empty()) writeTrajectory(fileFor(out_path, scene->name), r.estimate, out_format);
+      if (!steps_path.empty()) {
+        std::ostringstream csv;
+        csv << "timestamp_us,status,attempts,grid,chi2,dx,dy,dyaw,doppler_dx,doppler_dy,doppler_dyaw,source_points,target_points,"
+               "velocity_valid,gt_dx,gt_dy,gt_dyaw\n";
+        for (std::size_t k = 0; k < r.steps.size(); ++k) {
+          const OdometryStep& s = r.steps[k];
+          const Pose2 gt = k > 0 ? between(toPose2(r.ground_truth.poses[k - 1]), toPose2(r.ground_truth.poses[k])) : Pose2::Zero();
+          csv << s.timestamp_us << ',' << toString(s.status) << ',' << s.attempts << ',' << s.grid << ',' << s.chi2 << ','
+              << s.motion.x() << ',' << s.motion.y() << ',' << s.motion.z() << ',' << s.doppler_motion.x() << ','
+              << s.doppler_motion.y() << ',' << s.doppler_motion.z() << ',' << s.source_points << ',' << s.target_points << ','
+              << s.velocity_valid << ',' << gt.x() << ',' << gt.y() << ',' << gt.z() << '\n';
+        }
+        writeFileAtomically(fileFor(steps_path, scene->name), csv.str());
+      }
+      json j = summaryJson(r);
+      j["method"] = toString(options.method);
+      j["submap"] = options.odometry.submap_size;
+      if (eval) {
+        const PosePairs pairs = associate(r.ground_truth, r.estimate);
+        const EvaluationReport rep = evaluate(pairs, metrics);
+        reports.push_back(rep);
+        j["metrics"] = metricsOf(rep);
+        if (!plot_path.empty()) writeEvaluationSvg(fileFor(plot_path, scene->name), pairs, rep, scene->name + " (" + toString(options.method) + ")");
+      }
+      if (!json_out) {
+        const auto& c = r.counters;
+        std::printf("%s: %zu cycles (reference %s, %.1f Hz), matched %zu, retried %zu, fallbacks %zu (%.1f %%), %zu unreadable files\n",
+                    scene->name.c_str(), c.cycles, r.reference_channel.c_str(), r.period_s > 0 ? 1.0 / r.period_s : 0.0, c.matched,
+                    c.retried, c.fallbacks, c.cycles ? 100.0 * static_cast<double>(c.fallbacks) / static_cast<double>(c.cycles) : 0.0,
+                    r.problems.size());
+        std::printf("  %zu detections, %.1f %% removed as moving; Doppler fit residual %.3f m/s (median), %zu cycles without a valid ego-velocity\n",
+                    r.detections, r.detections ? 100.0 * static_cast<double>(r.removed_moving) / static_cast<double>(r.detections) : 0.0,
+                    r.median_doppler_residual, r.invalid_velocity_cycles);
+        std::printf("  ms per cycle (median): read %.2f, front-end %.2f, submap %.2f, match %.2f, total %.2f (%.0fx real time)\n",
+                    r.median_ms.read_ms, r.median_ms.front_end_ms, r.median_ms.submap_ms, r.median_ms.match_ms, r.median_total_ms,
+                    j["real_time_factor"].get<double>());
+        if (eval) std::cout << formatTable(reports.back());
+      }
+      all.push_back(j);
+    }
+    if (json_out) {
+      if (all.size() == 1) {
+        std::cout << all[0].dump(2) << std::endl;
+      } else {
+        json mean;
+        if (eval) {
+          // Mean of each numeric metric value over scenes.
+          json m = all[0]["metrics"];
+          for (auto& [name, entry] : m.items())
+            for (auto& [key, value] : entry.items()) {
+              double s = 0;
+              for (const auto& scene : all) s += scene["metrics"][name][key].get<double>();
+              value = s / static_cast<double>(all.size());
+            }
+          mean["metrics"] = m;
+        }
+        std::cout << json{{"scenes", all}, {"mean", mean}}.dump(2) << std::endl;
+      }
+    } else if (eval && reports.size() > 1) {
+      std::printf("mean over %zu scenes:\n", reports.size());
+      EvaluationReport mean = reports[0];
+      auto avg = [&](auto getter) {
+        double s = 0;
+        for (const auto& r : reports) s += getter(r);
+        return s / static_cast<double>(reports.size());
+      };
+      if (mean.one_meter) {
+        mean.one_meter->trans_err_pct = avg([](const EvaluationReport& r) { return r.one_meter->trans_err_pct; });
+        mean.one_meter->rot_err_deg_per_m = avg([](const EvaluationReport& r) { return r.one_meter->rot_err_deg_per_m; });
+      }
+      if (mean.kitti) {
+        mean.kitti->trans_err_pct = avg([](const EvaluationReport& r) { return r.kitti->trans_err_pct; });
+        mean.kitti->rot_err_deg_per_m = avg([](const EvaluationReport& r) { return r.kitti->rot_err_deg_per_m; });
+      }
+      if (mean.frame) {
+        mean.frame->trans_err_m = avg([](const EvaluationReport& r) { return r.frame->trans_err_m; });
+        mean.frame->rot_err_deg = avg([](const EvaluationReport& r) { return r.frame->rot_err_deg; });
+      }
+      if (mean.ate) mean.ate->rmse_m = avg([](const EvaluationReport& r) { return r.ate->rmse_m; });
+      std::cout << formatTable(mean);
+    }
+    return 0;
+  });
+}

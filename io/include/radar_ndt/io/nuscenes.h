@@ -1,0 +1,99 @@
+#pragma once
+// nuScenes-layout radar datasets: the radar PCD files as nuScenes writes them and the JSON tables
+// that say which sweep belongs to which scene, where each sensor is mounted and where the vehicle
+// was. Nothing here is specific to a channel name: radar channels are whatever `sensor.json` lists
+// with modality "radar".
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <pcl/point_cloud.h>
+
+#include "radar_ndt/point_types.h"
+
+namespace radar_ndt {
+
+/// ARS408 accuracy state index (the PCD fields x_rms, y_rms, vx_rms, vy_rms) to metres or m/s.
+/// Index 31 ("invalid") and out-of-range indices give NaN.
+double ars408RmsValue(int state_index);
+
+/// Which detections the reader keeps. Defaults: the paper's 150 m range, the valid cluster states
+/// of the ARS408 (0 and the "valid with a remark" states), every dynamic property, unambiguous
+/// Doppler only. An empty list accepts every value.
+struct NuScenesRadarFilter {
+  double max_range = 150.0;
+  std::vector<int> invalid_states{0, 4, 8, 9, 10, 11, 12, 15, 16, 17};
+  std::vector<int> dyn_props{};
+  std::vector<int> ambig_states{3};
+};
+
+struct NuScenesPcdStats {
+  std::size_t points_in_file = 0;
+  std::size_t kept = 0;
+  std::size_t dropped_by_filter = 0;
+  std::size_t dropped_non_finite = 0;  ///< NaN or Inf coordinates or velocities
+};
+
+/// Reads one nuScenes radar PCD (DATA binary, ascii or binary_compressed; any field order; fields
+/// it does not use are skipped) into PointRadar in the sensor frame: x y z, `doppler` = the radial
+/// part of (vx, vy) (positive when the target recedes), `rcs`, `power` = 1, `sensor_id`, and the
+/// reported accuracy as a diagonal sensor-frame covariance cov_xx = x_rms², cov_yy = y_rms² (0 when
+/// the file has no valid rms). `vx_comp`/`vy_comp` are never read. Required fields: x y vx vy.
+/// The header is checked against the file size before anything is allocated; `POINTS 0` gives an
+/// empty cloud. Throws IoError naming the file and the problem.
+pcl::PointCloud<PointRadar> readNuScenesRadarPcd(const std::string& path, const NuScenesRadarFilter& filter,
+                                                 std::uint16_t sensor_id, NuScenesPcdStats* stats = nullptr);
+
+struct NuScenesScene {
+  std::string token;
+  std::string name;
+  std::string description;
+  std::string log_token;
+  std::int64_t first_timestamp_us = 0;
+  std::int64_t last_timestamp_us = 0;
+};
+
+/// One radar sweep (a row of sample_data.json).
+struct NuScenesSweep {
+  std::string token;
+  std::string channel;
+  std::uint16_t channel_index = 0;  ///< index into NuScenesDataset::radarChannels()
+  std::int64_t timestamp_us = 0;
+  std::string path;                 ///< dataroot + filename
+  bool is_key_frame = false;
+  Eigen::Isometry3d sensor_to_ego = Eigen::Isometry3d::Identity();  ///< calibrated_sensor
+  Eigen::Isometry3d ego_to_global = Eigen::Isometry3d::Identity();  ///< ego_pose at this sweep
+};
+
+/// The tables of a nuScenes-layout dataroot. Only sensor, calibrated_sensor, sample_data,
+/// ego_pose, sample, scene and log are read (annotation tables are not needed). Throws IoError
+/// naming the table file for a missing table, unparsable JSON, a missing key, a key of the wrong
+/// type, or a token that points nowhere.
+class NuScenesDataset {
+ public:
+  /// `dataroot` holds `version/` (e.g. v1.0-mini) and samples/, sweeps/. An empty `version`
+  /// finds the one subfolder of dataroot that holds sensor.json (or dataroot itself).
+  explicit NuScenesDataset(const std::string& dataroot, const std::string& version = "");
+
+  const std::string& dataroot() const { return dataroot_; }
+  const std::string& tableDirectory() const { return table_dir_; }
+  const std::vector<NuScenesScene>& scenes() const { return scenes_; }
+  /// Throws std::invalid_argument listing the scenes when `name` is not one of them.
+  const NuScenesScene& scene(const std::string& name) const;
+  /// Channel names of the sensors with modality "radar", in sensor.json order.
+  const std::vector<std::string>& radarChannels() const { return radar_channels_; }
+  /// All radar sweeps of a scene, every channel, sorted by timestamp (then channel index).
+  std::vector<NuScenesSweep> radarSweeps(const NuScenesScene& scene) const;
+
+ private:
+  std::string dataroot_;
+  std::string table_dir_;
+  std::vector<NuScenesScene> scenes_;
+  std::vector<std::string> radar_channels_;
+  std::map<std::string, std::vector<NuScenesSweep>> sweeps_by_scene_;  ///< scene token → sweeps
+};
+
+}  // namespace radar_ndt

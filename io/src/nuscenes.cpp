@@ -1,0 +1,345 @@
+#include "radar_ndt/io/nuscenes.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <unordered_map>
+
+#include <nlohmann/json.hpp>
+
+#include "pcd_header.h"
+#include "radar_ndt/io/io_error.h"
+
+namespace radar_ndt {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+double ars408RmsValue(int state_index) {
+  // ARS408 technical documentation, cluster quality: state index → standard deviation (m or m/s).
+  static constexpr std::array<double, 31> kTable{
+      0.005, 0.006, 0.008, 0.011, 0.014, 0.018, 0.023, 0.029, 0.038, 0.049, 0.063,
+      0.081, 0.105, 0.135, 0.174, 0.224, 0.288, 0.371, 0.478, 0.616, 0.794, 1.023,
+      1.317, 1.697, 2.187, 2.817, 3.630, 4.676, 6.025, 7.762, 10.0};
+  if (state_index < 0 || state_index >= static_cast<int>(kTable.size())) return std::numeric_limits<double>::quiet_NaN();
+  return kTable[static_cast<std::size_t>(state_index)];
+}
+
+// ---- radar PCD --------------------------------------------------------------------------------
+
+namespace {
+
+enum Column { kX, kY, kZ, kVx, kVy, kRcs, kDynProp, kAmbig, kInvalid, kXRms, kYRms, kColumns };
+constexpr const char* kColumnNames[kColumns] = {"x", "y", "z", "vx", "vy", "rcs", "dyn_prop", "ambig_state",
+                                                "invalid_state", "x_rms", "y_rms"};
+
+bool accepts(const std::vector<int>& allowed, double value) {
+  if (allowed.empty()) return true;
+  if (!std::isfinite(value)) return false;
+  const int v = static_cast<int>(std::lround(value));
+  return std::find(allowed.begin(), allowed.end(), v) != allowed.end();
+}
+
+}  // namespace
+
+pcl::PointCloud<PointRadar> readNuScenesRadarPcd(const std::string& path, const NuScenesRadarFilter& filter,
+                                                 std::uint16_t sensor_id, NuScenesPcdStats* stats) {
+  const detail::PcdHeader h = detail::readPcdHeader(path);
+  std::array<int, kColumns> col;
+  for (int c = 0; c < kColumns; ++c) col[c] = h.find(kColumnNames[c]);
+  for (int c : {kX, kY, kVx, kVy})
+    if (col[c] < 0) throw IoError(path, std::string("no field '") + kColumnNames[c] + "': not a nuScenes radar PCD (needs x y vx vy)");
+
+  const std::size_t n = h.points;
+  // Only the columns we use, as doubles: [point][column], NaN where the file lacks the field.
+  std::vector<double> table(n * kColumns, std::numeric_limits<double>::quiet_NaN());
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path, "cannot open file for reading");
+  in.seekg(static_cast<std::streamoff>(h.data_offset));
+
+  if (h.data == detail::PcdData::Ascii) {
+    std::string line;
+    std::size_t i = 0, line_skip = 0;
+    std::vector<double> values;
+    while (i < n && std::getline(in, line)) {
+      ++line_skip;
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (line.find_first_not_of(" \t") == std::string::npos) continue;
+      values.clear();
+      const char* s = line.c_str();
+      char* end = nullptr;
+      for (;;) {
+        while (*s == ' ' || *s == '\t') ++s;
+        if (!*s) break;
+        const double v = std::strtod(s, &end);
+        if (end == s) throw IoError(path, "data line " + std::to_string(line_skip) + ": unparsable value '" + std::string(s).substr(0, 20) + "'");
+        values.push_back(v);
+        s = end;
+      }
+      std::size_t expected = 0;
+      for (const auto& f : h.fields) expected += f.count;
+      if (values.size() != expected)
+        throw IoError(path, "data line " + std::to_string(line_skip) + ": " + std::to_string(values.size()) + " values, the header declares " +
+                                std::to_string(expected));
+      for (int c = 0; c < kColumns; ++c) {
+        if (col[c] < 0) continue;
+        std::size_t pos = 0;
+        for (int f = 0; f < col[c]; ++f) pos += h.fields[static_cast<std::size_t>(f)].count;
+        table[i * kColumns + static_cast<std::size_t>(c)] = values[pos];
+      }
+      ++i;
+    }
+    if (i < n) throw IoError(path, "truncated: " + std::to_string(i) + " of " + std::to_string(n) + " declared points");
+  } else if (n > 0) {
+    std::vector<unsigned char> data(n * h.point_bytes);
+    bool soa = false;  // binary_compressed stores field after field (structure of arrays)
+    if (h.data == detail::PcdData::Binary) {
+      if (!in.read(reinterpret_cast<char*>(data.data()), static_cast<std::streamsize>(data.size())))
+        throw IoError(path, "truncated binary data");
+    } else {
+      unsigned char words[8];
+      in.read(reinterpret_cast<char*>(words), 8);
+      std::uint32_t compressed = 0;
+      for (int b = 3; b >= 0; --b) compressed = (compressed << 8) | words[b];
+      std::vector<unsigned char> packed(compressed);
+      if (!in.read(reinterpret_cast<char*>(packed.data()), static_cast<std::streamsize>(packed.size())))
+        throw IoError(path, "truncated binary_compressed data");
+      if (!detail::lzfDecompress(packed.data(), packed.size(), data.data(), data.size()))
+        throw IoError(path, "corrupt binary_compressed data (LZF stream does not decode to the declared size)");
+      soa = true;
+    }
+    for (int c = 0; c < kColumns; ++c) {
+      if (col[c] < 0) continue;
+      const detail::PcdField& f = h.fields[static_cast<std::size_t>(col[c])];
+      for (std::size_t i = 0; i < n; ++i) {
+        const unsigned char* base = soa ? data.data() + n * f.offset + i * f.size * f.count - f.offset
+                                        : data.data() + i * h.point_bytes;
+        table[i * kColumns + static_cast<std::size_t>(c)] = detail::readPcdValue(base, f);
+      }
+    }
+  }
+
+  NuScenesPcdStats local;
+  local.points_in_file = n;
+  pcl::PointCloud<PointRadar> cloud;
+  cloud.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* r = &table[i * kColumns];
+    const double z = std::isnan(r[kZ]) && col[kZ] < 0 ? 0.0 : r[kZ];
+    if (!std::isfinite(r[kX]) || !std::isfinite(r[kY]) || !std::isfinite(z) || !std::isfinite(r[kVx]) || !std::isfinite(r[kVy])) {
+      ++local.dropped_non_finite;
+      continue;
+    }
+    const double range = std::sqrt(r[kX] * r[kX] + r[kY] * r[kY] + z * z);
+    const bool keep = range <= filter.max_range && (col[kInvalid] < 0 || accepts(filter.invalid_states, r[kInvalid])) &&
+                      (col[kDynProp] < 0 || accepts(filter.dyn_props, r[kDynProp])) &&
+                      (col[kAmbig] < 0 || accepts(filter.ambig_states, r[kAmbig]));
+    if (!keep) {
+      ++local.dropped_by_filter;
+      continue;
+    }
+    PointRadar p(static_cast<float>(r[kX]), static_cast<float>(r[kY]), static_cast<float>(z), 1.f);
+    p.doppler = range > 1e-6 ? static_cast<float>((r[kX] * r[kVx] + r[kY] * r[kVy]) / range) : 0.f;
+    p.rcs = std::isfinite(r[kRcs]) ? static_cast<float>(r[kRcs]) : 0.f;
+    p.sensor_id = sensor_id;
+    const double sx = std::isfinite(r[kXRms]) ? ars408RmsValue(static_cast<int>(std::lround(r[kXRms]))) : NAN;
+    const double sy = std::isfinite(r[kYRms]) ? ars408RmsValue(static_cast<int>(std::lround(r[kYRms]))) : NAN;
+    if (std::isfinite(sx) && std::isfinite(sy)) {
+      p.cov_xx = static_cast<float>(sx * sx);
+      p.cov_yy = static_cast<float>(sy * sy);
+    }
+    cloud.push_back(p);
+  }
+  local.kept = cloud.size();
+  if (stats) *stats = local;
+  return cloud;
+}
+
+// ---- JSON tables ------------------------------------------------------------------------------
+
+namespace {
+
+class Table {
+ public:
+  Table(const std::string& dir, const std::string& name) : file_((fs::path(dir) / (name + ".json")).string()) {
+    std::ifstream in(file_, std::ios::binary);
+    if (!in) throw IoError(file_, "missing table " + name + ".json (needed: sensor, calibrated_sensor, sample_data, ego_pose, sample, scene, log)");
+    try {
+      rows_ = json::parse(in);
+    } catch (const json::exception& e) {
+      throw IoError(file_, std::string("invalid JSON: ") + e.what());
+    }
+    if (!rows_.is_array()) throw IoError(file_, "expected a JSON array of rows");
+    for (std::size_t i = 0; i < rows_.size(); ++i)
+      if (!rows_[i].is_object()) throw IoError(file_, "row " + std::to_string(i) + " is not a JSON object");
+  }
+  std::size_t size() const { return rows_.size(); }
+  const std::string& file() const { return file_; }
+
+  const json& field(std::size_t row, const char* key) const {
+    const auto it = rows_[row].find(key);
+    if (it == rows_[row].end()) throw IoError(file_, "row " + std::to_string(row) + ": missing key '" + key + "'");
+    return *it;
+  }
+  std::string str(std::size_t row, const char* key) const {
+    const json& v = field(row, key);
+    if (!v.is_string()) throw IoError(file_, "row " + std::to_string(row) + ": '" + key + "' is not a string");
+    return v.get<std::string>();
+  }
+  std::int64_t integer(std::size_t row, const char* key) const {
+    const json& v = field(row, key);
+    if (!v.is_number_integer()) throw IoError(file_, "row " + std::to_string(row) + ": '" + key + "' is not an integer");
+    return v.get<std::int64_t>();
+  }
+  bool boolean(std::size_t row, const char* key, bool fallback) const {
+    const auto it = rows_[row].find(key);
+    if (it == rows_[row].end()) return fallback;
+    if (!it->is_boolean()) throw IoError(file_, "row " + std::to_string(row) + ": '" + key + "' is not true/false");
+    return it->get<bool>();
+  }
+  std::vector<double> numbers(std::size_t row, const char* key, std::size_t count) const {
+    const json& v = field(row, key);
+    if (!v.is_array() || v.size() != count)
+      throw IoError(file_, "row " + std::to_string(row) + ": '" + key + "' is not an array of " + std::to_string(count) + " numbers");
+    std::vector<double> out;
+    for (const auto& x : v) {
+      if (!x.is_number()) throw IoError(file_, "row " + std::to_string(row) + ": '" + key + "' holds a non-number");
+      out.push_back(x.get<double>());
+      if (!std::isfinite(out.back())) throw IoError(file_, "row " + std::to_string(row) + ": '" + key + "' holds a non-finite number");
+    }
+    return out;
+  }
+  /// translation [x y z] + rotation [w x y z] → isometry (quaternion normalised; near-zero refused).
+  Eigen::Isometry3d pose(std::size_t row) const {
+    const auto t = numbers(row, "translation", 3);
+    const auto q = numbers(row, "rotation", 4);
+    Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
+    const double norm = quat.norm();
+    if (!(std::abs(norm - 1.0) < 1e-2)) throw IoError(file_, "row " + std::to_string(row) + ": rotation quaternion has norm " + std::to_string(norm));
+    quat.normalize();
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = quat.toRotationMatrix();
+    T.translation() << t[0], t[1], t[2];
+    return T;
+  }
+
+ private:
+  std::string file_;
+  json rows_;
+};
+
+std::string findTableDirectory(const std::string& dataroot, const std::string& version) {
+  std::error_code ec;
+  if (!fs::is_directory(dataroot, ec)) throw IoError(dataroot, "dataroot is not a directory");
+  if (!version.empty()) {
+    const fs::path dir = fs::path(dataroot) / version;
+    if (!fs::is_directory(dir, ec)) throw IoError(dir.string(), "no such table directory (version '" + version + "')");
+    return dir.string();
+  }
+  if (fs::exists(fs::path(dataroot) / "sensor.json", ec)) return dataroot;
+  std::vector<std::string> candidates;
+  for (const auto& entry : fs::directory_iterator(dataroot, ec))
+    if (entry.is_directory(ec) && fs::exists(entry.path() / "sensor.json", ec)) candidates.push_back(entry.path().string());
+  std::sort(candidates.begin(), candidates.end());
+  if (candidates.empty()) throw IoError(dataroot, "no table directory (a subfolder such as v1.0-mini holding sensor.json)");
+  if (candidates.size() > 1)
+    throw IoError(dataroot, "several table directories (" + candidates.front() + ", " + candidates[1] + ", ...): choose one with a version");
+  return candidates.front();
+}
+
+}  // namespace
+
+NuScenesDataset::NuScenesDataset(const std::string& dataroot, const std::string& version)
+    : dataroot_(dataroot), table_dir_(findTableDirectory(dataroot, version)) {
+  const Table sensor(table_dir_, "sensor"), calibrated(table_dir_, "calibrated_sensor"), sample_data(table_dir_, "sample_data"),
+      ego_pose(table_dir_, "ego_pose"), sample(table_dir_, "sample"), scene(table_dir_, "scene"), log(table_dir_, "log");
+
+  std::unordered_map<std::string, int> radar_sensor;  // sensor token → radar channel index
+  for (std::size_t i = 0; i < sensor.size(); ++i) {
+    if (sensor.str(i, "modality") != "radar") continue;
+    radar_sensor[sensor.str(i, "token")] = static_cast<int>(radar_channels_.size());
+    radar_channels_.push_back(sensor.str(i, "channel"));
+  }
+  if (radar_channels_.size() > 65535) throw IoError(sensor.file(), "more than 65535 radar channels");
+
+  struct Calibration {
+    int channel;
+    Eigen::Isometry3d pose;
+  };
+  std::unordered_map<std::string, Calibration> calibration;
+  for (std::size_t i = 0; i < calibrated.size(); ++i) {
+    const auto it = radar_sensor.find(calibrated.str(i, "sensor_token"));
+    if (it == radar_sensor.end()) continue;  // a camera or lidar
+    calibration[calibrated.str(i, "token")] = {it->second, calibrated.pose(i)};
+  }
+  std::unordered_map<std::string, std::size_t> ego_row;
+  for (std::size_t i = 0; i < ego_pose.size(); ++i) ego_row[ego_pose.str(i, "token")] = i;
+  std::unordered_map<std::string, std::string> sample_scene;
+  for (std::size_t i = 0; i < sample.size(); ++i) sample_scene[sample.str(i, "token")] = sample.str(i, "scene_token");
+  std::unordered_map<std::string, bool> logs;
+  for (std::size_t i = 0; i < log.size(); ++i) logs[log.str(i, "token")] = true;
+
+  for (std::size_t i = 0; i < scene.size(); ++i) {
+    NuScenesScene s;
+    s.token = scene.str(i, "token");
+    s.name = scene.str(i, "name");
+    s.log_token = scene.str(i, "log_token");
+    const auto d = scene.field(i, "description");
+    s.description = d.is_string() ? d.get<std::string>() : "";
+    if (!logs.count(s.log_token)) throw IoError(scene.file(), "row " + std::to_string(i) + ": log_token '" + s.log_token + "' is not in log.json");
+    scenes_.push_back(s);
+  }
+
+  for (std::size_t i = 0; i < sample_data.size(); ++i) {
+    const auto cal = calibration.find(sample_data.str(i, "calibrated_sensor_token"));
+    if (cal == calibration.end()) continue;  // not a radar (or an unknown calibration: checked below for radars only)
+    NuScenesSweep s;
+    s.token = sample_data.str(i, "token");
+    s.channel_index = static_cast<std::uint16_t>(cal->second.channel);
+    s.channel = radar_channels_[s.channel_index];
+    s.timestamp_us = sample_data.integer(i, "timestamp");
+    s.is_key_frame = sample_data.boolean(i, "is_key_frame", false);
+    const std::string filename = sample_data.str(i, "filename");
+    if (filename.empty()) throw IoError(sample_data.file(), "row " + std::to_string(i) + ": empty filename");
+    s.path = (fs::path(dataroot_) / filename).string();
+    s.sensor_to_ego = cal->second.pose;
+    const std::string ego_token = sample_data.str(i, "ego_pose_token");
+    const auto ego = ego_row.find(ego_token);
+    if (ego == ego_row.end()) throw IoError(sample_data.file(), "row " + std::to_string(i) + ": ego_pose_token '" + ego_token + "' is not in ego_pose.json");
+    s.ego_to_global = ego_pose.pose(ego->second);
+    const std::string sample_token = sample_data.str(i, "sample_token");
+    const auto sc = sample_scene.find(sample_token);
+    if (sc == sample_scene.end()) throw IoError(sample_data.file(), "row " + std::to_string(i) + ": sample_token '" + sample_token + "' is not in sample.json");
+    sweeps_by_scene_[sc->second].push_back(std::move(s));
+  }
+  for (auto& [token, sweeps] : sweeps_by_scene_)
+    std::sort(sweeps.begin(), sweeps.end(), [](const NuScenesSweep& a, const NuScenesSweep& b) {
+      return a.timestamp_us != b.timestamp_us ? a.timestamp_us < b.timestamp_us : a.channel_index < b.channel_index;
+    });
+  for (auto& s : scenes_) {
+    const auto it = sweeps_by_scene_.find(s.token);
+    if (it == sweeps_by_scene_.end() || it->second.empty()) continue;
+    s.first_timestamp_us = it->second.front().timestamp_us;
+    s.last_timestamp_us = it->second.back().timestamp_us;
+  }
+}
+
+const NuScenesScene& NuScenesDataset::scene(const std::string& name) const {
+  for (const auto& s : scenes_)
+    if (s.name == name || s.token == name) return s;
+  std::string names;
+  for (const auto& s : scenes_) names += (names.empty() ? "" : ", ") + s.name;
+  throw std::invalid_argument("no scene '" + name + "' in " + table_dir_ + " (scenes: " + names + ")");
+}
+
+std::vector<NuScenesSweep> NuScenesDataset::radarSweeps(const NuScenesScene& scene) const {
+  const auto it = sweeps_by_scene_.find(scene.token);
+  return it == sweeps_by_scene_.end() ? std::vector<NuScenesSweep>{} : it->second;
+}
+
+}  // namespace radar_ndt

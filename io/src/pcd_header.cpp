@@ -1,0 +1,194 @@
+#include "pcd_header.h"
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "radar_ndt/io/io_error.h"
+
+namespace radar_ndt {
+namespace detail {
+
+int PcdHeader::find(const std::string& name) const {
+  for (std::size_t i = 0; i < fields.size(); ++i)
+    if (fields[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+PcdHeader readPcdHeader(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw IoError(path, "no such file");
+  PcdHeader h;
+  h.file_size = std::filesystem::file_size(path, ec);
+  if (ec) throw IoError(path, "cannot open file for reading");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path, "cannot open file for reading");
+  if (h.file_size == 0) throw IoError(path, "empty file: not a PCD file");
+  std::vector<std::size_t> sizes, counts;
+  std::vector<char> types;
+  std::vector<std::string> names;
+  bool have_points = false, have_width = false;
+  std::string line;
+  std::size_t line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line_no > 64) throw IoError(path, "no DATA line in the first 64 header lines: not a PCD file");
+    if (line.size() > 4096) throw IoError(path, line_no, "header line longer than 4096 bytes: not a PCD file");
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ls(line);
+    std::string key;
+    ls >> key;
+    std::vector<std::string> values;
+    for (std::string v; ls >> v;) values.push_back(v);
+    auto number = [&](const std::string& v) -> std::size_t {
+      if (v.empty() || v.find_first_not_of("0123456789") != std::string::npos || v.size() > 12)
+        throw IoError(path, line_no, "bad number '" + v.substr(0, 20) + "' in " + key);
+      return static_cast<std::size_t>(std::stoull(v));
+    };
+    if (key == "VERSION" || key == "VIEWPOINT") {
+    } else if (key == "FIELDS") {
+      names = values;
+    } else if (key == "SIZE") {
+      for (const auto& v : values) sizes.push_back(number(v));
+    } else if (key == "TYPE") {
+      for (const auto& v : values) {
+        if (v != "F" && v != "I" && v != "U") throw IoError(path, line_no, "unknown TYPE '" + v.substr(0, 20) + "'");
+        types.push_back(v[0]);
+      }
+    } else if (key == "COUNT") {
+      for (const auto& v : values) counts.push_back(number(v));
+    } else if (key == "WIDTH" && values.size() == 1) {
+      h.width = number(values[0]);
+      have_width = true;
+    } else if (key == "HEIGHT" && values.size() == 1) {
+      h.height = number(values[0]);
+    } else if (key == "POINTS" && values.size() == 1) {
+      h.points = number(values[0]);
+      have_points = true;
+    } else if (key == "DATA" && values.size() == 1) {
+      const std::size_t n = names.size();
+      if (n == 0) throw IoError(path, line_no, "no FIELDS before DATA");
+      if (sizes.size() != n)
+        throw IoError(path, line_no, "SIZE has " + std::to_string(sizes.size()) + " entries for " + std::to_string(n) + " fields");
+      if (types.empty()) types.assign(n, 'F');
+      if (types.size() != n)
+        throw IoError(path, line_no, "TYPE has " + std::to_string(types.size()) + " entries for " + std::to_string(n) + " fields");
+      if (counts.empty()) counts.assign(n, 1);
+      if (counts.size() != n)
+        throw IoError(path, line_no, "COUNT has " + std::to_string(counts.size()) + " entries for " + std::to_string(n) + " fields");
+      for (std::size_t i = 0; i < n; ++i) {
+        if (sizes[i] != 1 && sizes[i] != 2 && sizes[i] != 4 && sizes[i] != 8)
+          throw IoError(path, line_no, "field '" + names[i] + "' has size " + std::to_string(sizes[i]) + ", not 1, 2, 4 or 8");
+        if (types[i] == 'F' && sizes[i] != 4 && sizes[i] != 8)
+          throw IoError(path, line_no, "float field '" + names[i] + "' has size " + std::to_string(sizes[i]));
+        if (counts[i] == 0 || counts[i] > 1000000)
+          throw IoError(path, line_no, "field '" + names[i] + "' has COUNT " + std::to_string(counts[i]));
+        h.fields.push_back({names[i], sizes[i], types[i], counts[i], h.point_bytes});
+        h.point_bytes += sizes[i] * counts[i];
+      }
+      if (!have_width) throw IoError(path, line_no, "no WIDTH line in the header");
+      if (h.height == 0 && h.width > 0) throw IoError(path, line_no, "HEIGHT 0 with WIDTH " + std::to_string(h.width));
+      if (!have_points) h.points = h.width * h.height;
+      if (h.width * h.height != h.points)
+        throw IoError(path, line_no, "WIDTH x HEIGHT (" + std::to_string(h.width * h.height) + ") != POINTS (" + std::to_string(h.points) + ")");
+      if (!in.good()) throw IoError(path, line_no, "header ends without data");
+      h.data_offset = static_cast<std::uintmax_t>(in.tellg());
+      const std::uintmax_t available = h.file_size - std::min(h.file_size, h.data_offset);
+      if (values[0] == "binary") {
+        h.data = PcdData::Binary;
+        const std::uintmax_t need = static_cast<std::uintmax_t>(h.points) * h.point_bytes;
+        if (available < need)
+          throw IoError(path, "header declares " + std::to_string(h.points) + " points of " + std::to_string(h.point_bytes) +
+                                  " bytes, but the file holds only " + std::to_string(available) + " data bytes (truncated?)");
+      } else if (values[0] == "ascii") {
+        h.data = PcdData::Ascii;
+        if (h.points > available) throw IoError(path, "header declares " + std::to_string(h.points) + " points, more than the file has bytes");
+      } else if (values[0] == "binary_compressed") {
+        h.data = PcdData::BinaryCompressed;
+        if (h.points > 0) {
+          unsigned char words[8];
+          if (available < 8 || !in.read(reinterpret_cast<char*>(words), 8))
+            throw IoError(path, "binary_compressed data without its two size words (truncated?)");
+          std::uint32_t compressed = 0, uncompressed = 0;
+          for (int b = 3; b >= 0; --b) {  // little-endian, as PCL writes them
+            compressed = (compressed << 8) | words[b];
+            uncompressed = (uncompressed << 8) | words[4 + b];
+          }
+          if (static_cast<std::uintmax_t>(uncompressed) != static_cast<std::uintmax_t>(h.points) * h.point_bytes)
+            throw IoError(path, "binary_compressed size word says " + std::to_string(uncompressed) + " bytes, the header needs " +
+                                    std::to_string(h.points * h.point_bytes));
+          if (compressed > available - 8)
+            throw IoError(path, "binary_compressed data of " + std::to_string(compressed) + " bytes, but the file holds " +
+                                    std::to_string(available - 8) + " (truncated?)");
+        }
+      } else {
+        throw IoError(path, line_no, "unknown DATA format '" + values[0].substr(0, 20) + "'");
+      }
+      return h;
+    } else {
+      throw IoError(path, line_no, "unexpected header line '" + line.substr(0, 40) + "': not a PCD file");
+    }
+  }
+  throw IoError(path, "no DATA line: not a PCD file (or a truncated header)");
+}
+
+bool lzfDecompress(const unsigned char* in, std::size_t in_size, unsigned char* out, std::size_t out_size) {
+  std::size_t ip = 0, op = 0;
+  while (ip < in_size) {
+    std::size_t ctrl = in[ip++];
+    if (ctrl < 32) {  // literal run of ctrl + 1 bytes
+      const std::size_t len = ctrl + 1;
+      if (ip + len > in_size || op + len > out_size) return false;
+      std::memcpy(out + op, in + ip, len);
+      ip += len;
+      op += len;
+    } else {  // back reference
+      std::size_t len = ctrl >> 5;
+      if (len == 7) {
+        if (ip >= in_size) return false;
+        len += in[ip++];
+      }
+      if (ip >= in_size) return false;
+      const std::size_t back = ((ctrl & 0x1f) << 8) + in[ip++] + 1;
+      len += 2;
+      if (back > op || op + len > out_size) return false;
+      for (std::size_t k = 0; k < len; ++k, ++op) out[op] = out[op - back];  // may overlap
+    }
+  }
+  return op == out_size;
+}
+
+double readPcdValue(const unsigned char* point, const PcdField& f, std::size_t element) {
+  const unsigned char* p = point + f.offset + element * f.size;
+  switch (f.type) {
+    case 'F':
+      if (f.size == 4) {
+        float v;
+        std::memcpy(&v, p, 4);
+        return v;
+      } else {
+        double v;
+        std::memcpy(&v, p, 8);
+        return v;
+      }
+    case 'I':
+      switch (f.size) {
+        case 1: { std::int8_t v; std::memcpy(&v, p, 1); return v; }
+        case 2: { std::int16_t v; std::memcpy(&v, p, 2); return v; }
+        case 4: { std::int32_t v; std::memcpy(&v, p, 4); return v; }
+        default: { std::int64_t v; std::memcpy(&v, p, 8); return static_cast<double>(v); }
+      }
+    default:
+      switch (f.size) {
+        case 1: return p[0];
+        case 2: { std::uint16_t v; std::memcpy(&v, p, 2); return v; }
+        case 4: { std::uint32_t v; std::memcpy(&v, p, 4); return v; }
+        default: { std::uint64_t v; std::memcpy(&v, p, 8); return static_cast<double>(v); }
+      }
+  }
+}
+
+}  // namespace detail
+}  // namespace radar_ndt

@@ -1,0 +1,35 @@
+#pragma once
+// The scan matchers the odometry can run, as pcl::Registration<PointRadar, PointRadar> objects:
+// ours, and PCL's NDT and ICP with the settings README documents. PCL's templates for PointRadar
+// are compiled once, in src/matchers.cpp.
+
+#include <string>
+
+#include <pcl/registration/registration.h>
+
+#include "radar_ndt/point_types.h"
+
+namespace radar_ndt {
+
+using RadarRegistration = pcl::Registration<PointRadar, PointRadar, float>;
+
+enum class Method {
+  PwNdt,    ///< WeightedNDT2D (the paper's weighted probabilistic NDT), one point per cell minimum
+  PclNdt,   ///< pcl::NormalDistributionsTransform
+  PclIcp,   ///< pcl::IterativeClosestPoint
+  Doppler,  ///< no matching: Kellner's ego-velocity integration
+  RappNdt,  ///< grid NDT with Doppler-agreement weights (Rapp et al. 2017, grid-based as in the paper)
+};
+
+/// "pw-ndt", "pcl-ndt", "pcl-icp", "doppler", "rapp-ndt"; throws std::invalid_argument otherwise.
+Method parseMethod(const std::string& name);
+const char* toString(Method method);
+
+/// A new matcher for `method` at grid size `grid` (NDT cell size; ICP: max correspondence
+/// distance). nullptr for Method::Doppler.
+RadarRegistration::Ptr makeMatcher(Method method, double grid);
+
+/// Sets the grid size of a matcher made by makeMatcher (used by the failure retries).
+void setMatcherGrid(RadarRegistration& matcher, double grid);
+
+}  // namespace radar_ndt

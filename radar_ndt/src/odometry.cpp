@@ -120,8 +120,6 @@ const OdometryStep& Odometry::add(const ProcessedCycle& cycle) {
   auto t0 = std::chrono::steady_clock::now();
   pcl::PointCloud<PointRadar> points = *cycle.cloud;
   for (auto& p : points) p.z = 0.f;  // planar odometry: the mounting height is not an elevation
-  if (options_.doppler_weights && prev)
-    weightByDoppler(points, cycle.mountings, submap_.cycles() ? integrateVelocity(ego.velocity, dt) : Pose2::Zero(), dt > 0 ? dt : 1.0);
   submap_.add(points, ego.velocity, ego.covariance, dt);
   pcl::PointCloud<PointRadar>::Ptr source = submap_.cloud();
   step.submap_ms = msSince(t0);
@@ -157,7 +155,9 @@ const OdometryStep& Odometry::add(const ProcessedCycle& cycle) {
       const int rounds = options_.doppler_weights ? std::max(1, options_.doppler_weight_rounds) : 1;
       bool converged = false;
       for (int round = 0; round < rounds; ++round) {
-        if (options_.doppler_weights && round > 0) weightByDoppler(*source, cycle.mountings, estimate, dt);
+        // Rapp: weights from the initial guess, then from each round's estimate (a failed attempt's
+        // estimate must not carry over into the next attempt).
+        if (options_.doppler_weights) weightByDoppler(*source, cycle.mountings, estimate, dt);
         matcher_->setInputSource(source);
         matcher_->align(aligned, toMatrix4<float>(estimate));
         converged = matcher_->hasConverged();

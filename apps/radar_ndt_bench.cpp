@@ -86,10 +86,8 @@ int benchNuScenes(const std::string& dataroot, std::size_t stride, bool json) {
     pcl::PointCloud<PointRadar>::Ptr previous;
     for (std::size_t k = 0; k < seq.size(); ++k) {
       const ProcessedCycle c = fe.process(seq.load(k));
-      pcl::PointCloud<PointRadar> pts = *c.cloud;
-      for (auto& p : pts) p.z = 0.f;
       const double dt = k ? 1e-6 * static_cast<double>(seq.timestamp(k) - seq.timestamp(k - 1)) : 0.0;
-      submap.add(pts, c.ego.velocity, c.ego.covariance, dt);
+      submap.add(*c.cloud, c.ego.velocity, c.ego.covariance, dt);
       auto current = submap.cloud();
       if (k >= 3 && k % stride == 0)
         pairs.push_back({current, previous, submap.lastMotion(),
@@ -194,10 +192,7 @@ int main(int argc, char** argv) {
     std::snprintf(buf, sizeof(buf), "resolution=%.2f m, step 0.5, eps 1e-4, max 50 it", grid);
     methods.push_back({"pcl::NormalDistributionsTransform", buf, [=]() -> Reg::Ptr {
                          auto r = pcl::make_shared<pcl::NormalDistributionsTransform<PointT, PointT>>();
-                         r->setResolution(static_cast<float>(grid));
-                         r->setStepSize(0.5);
-                         r->setTransformationEpsilon(1e-4);
-                         r->setMaximumIterations(50);
+                         applyPclNdtSettings(*r, grid);
                          return r;
                        }});
     if (vm["variants"].as<bool>()) {

@@ -63,6 +63,14 @@ pcl::PointCloud<PointRadar> readNuScenesRadarPcd(const std::string& path, const 
   in.seekg(static_cast<std::streamoff>(h.data_offset));
 
   if (h.data == detail::PcdData::Ascii) {
+    // Position of each used column's first value on a line, and the values a line must have.
+    std::size_t expected = 0;
+    std::array<std::size_t, kColumns> pos{};
+    for (std::size_t f = 0; f < h.fields.size(); ++f) {
+      for (int c = 0; c < kColumns; ++c)
+        if (col[c] == static_cast<int>(f)) pos[c] = expected;
+      expected += h.fields[f].count;
+    }
     std::string line;
     std::size_t i = 0, line_skip = 0;
     std::vector<double> values;
@@ -81,17 +89,11 @@ pcl::PointCloud<PointRadar> readNuScenesRadarPcd(const std::string& path, const 
         values.push_back(v);
         s = end;
       }
-      std::size_t expected = 0;
-      for (const auto& f : h.fields) expected += f.count;
       if (values.size() != expected)
         throw IoError(path, "data line " + std::to_string(line_skip) + ": " + std::to_string(values.size()) + " values, the header declares " +
                                 std::to_string(expected));
-      for (int c = 0; c < kColumns; ++c) {
-        if (col[c] < 0) continue;
-        std::size_t pos = 0;
-        for (int f = 0; f < col[c]; ++f) pos += h.fields[static_cast<std::size_t>(f)].count;
-        table[i * kColumns + static_cast<std::size_t>(c)] = values[pos];
-      }
+      for (int c = 0; c < kColumns; ++c)
+        if (col[c] >= 0) table[i * kColumns + static_cast<std::size_t>(c)] = values[pos[c]];
       ++i;
     }
     if (i < n) throw IoError(path, "truncated: " + std::to_string(i) + " of " + std::to_string(n) + " declared points");
@@ -116,11 +118,11 @@ pcl::PointCloud<PointRadar> readNuScenesRadarPcd(const std::string& path, const 
     for (int c = 0; c < kColumns; ++c) {
       if (col[c] < 0) continue;
       const detail::PcdField& f = h.fields[static_cast<std::size_t>(col[c])];
-      for (std::size_t i = 0; i < n; ++i) {
-        const unsigned char* base = soa ? data.data() + n * f.offset + i * f.size * f.count - f.offset
-                                        : data.data() + i * h.point_bytes;
-        table[i * kColumns + static_cast<std::size_t>(c)] = detail::readPcdValue(base, f);
-      }
+      // Where element 0 of this field of point i starts, in either layout.
+      const std::size_t start = soa ? n * f.offset : f.offset;
+      const std::size_t stride = soa ? f.size * f.count : h.point_bytes;
+      for (std::size_t i = 0; i < n; ++i)
+        table[i * kColumns + static_cast<std::size_t>(c)] = detail::readPcdScalar(data.data() + start + i * stride, f);
     }
   }
 

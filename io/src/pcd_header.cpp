@@ -160,8 +160,7 @@ bool lzfDecompress(const unsigned char* in, std::size_t in_size, unsigned char* 
   return op == out_size;
 }
 
-double readPcdValue(const unsigned char* point, const PcdField& f, std::size_t element) {
-  const unsigned char* p = point + f.offset + element * f.size;
+double readPcdScalar(const unsigned char* p, const PcdField& f) {
   switch (f.type) {
     case 'F':
       if (f.size == 4) {

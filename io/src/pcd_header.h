@@ -40,8 +40,8 @@ PcdHeader readPcdHeader(const std::string& path);
 /// `out_size` bytes. Returns false on malformed input instead of reading or writing out of bounds.
 bool lzfDecompress(const unsigned char* in, std::size_t in_size, unsigned char* out, std::size_t out_size);
 
-/// Reads the element `element` of field `f` of packed point `point` as a double.
-double readPcdValue(const unsigned char* point, const PcdField& f, std::size_t element = 0);
+/// Reads one value of field `f`'s type and size stored at `p`, as a double.
+double readPcdScalar(const unsigned char* p, const PcdField& f);
 
 }  // namespace detail
 }  // namespace radar_ndt

@@ -1,6 +1,7 @@
 #include "radar_ndt/ego_velocity.h"
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include <Eigen/Cholesky>

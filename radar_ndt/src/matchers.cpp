@@ -45,10 +45,7 @@ RadarRegistration::Ptr makeMatcher(Method method, double grid) {
     }
     case Method::PclNdt: {
       auto r = pcl::make_shared<pcl::NormalDistributionsTransform<PointRadar, PointRadar>>();
-      r->setResolution(static_cast<float>(grid));
-      r->setStepSize(0.5);
-      r->setTransformationEpsilon(1e-4);
-      r->setMaximumIterations(50);
+      applyPclNdtSettings(*r, grid);
       return r;
     }
     case Method::PclIcp: {

@@ -118,9 +118,7 @@ const OdometryStep& Odometry::add(const ProcessedCycle& cycle) {
 
   const double dt = prev ? 1e-6 * static_cast<double>(cycle.timestamp_us - prev->timestamp_us) : 0.0;
   auto t0 = std::chrono::steady_clock::now();
-  pcl::PointCloud<PointRadar> points = *cycle.cloud;
-  for (auto& p : points) p.z = 0.f;  // planar odometry: the mounting height is not an elevation
-  submap_.add(points, ego.velocity, ego.covariance, dt);
+  submap_.add(*cycle.cloud, ego.velocity, ego.covariance, dt);
   pcl::PointCloud<PointRadar>::Ptr source = submap_.cloud();
   step.submap_ms = msSince(t0);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "radar_ndt/probabilistic_submap.h"
 #include "radar_ndt/se2.h"
 
 namespace radar_ndt {
@@ -60,71 +61,66 @@ SensorMounting toMounting(const Eigen::Isometry3d& T) {
 ProcessedCycle AutomotiveFrontEnd::process(const RadarCycle& cycle, const EgoVelocity* fallback) const {
   ProcessedCycle out;
   out.timestamp_us = cycle.timestamp_us;
-  // 1. Every sweep into the vehicle frame (at its own time), with its point covariances.
-  pcl::PointCloud<PointRadar> all;
-  std::vector<float> sweep_dt;  // per point: t_ref − t_sweep (s)
+  // 1. Every sweep into the vehicle frame (at its own time), with its point covariances. Planar:
+  // z (the mounting height, not an elevation: the ARS408 measures none) is set to 0.
+  pcl::PointCloud<PointRadar>::Ptr all(new pcl::PointCloud<PointRadar>);
+  std::vector<std::size_t> sweep_end;  // all[sweep_end[s-1] .. sweep_end[s]) came from sweep s
+  std::vector<float> sweep_dt;         // t_ref − t_sweep (s), as the points' time_offset stores it
   for (const auto& sweep : cycle.sweeps) {
     if (sweep.sensor_id >= out.mountings.size()) out.mountings.resize(sweep.sensor_id + 1u);
     out.mountings[sweep.sensor_id] = toMounting(sweep.sensor_to_vehicle);
+    const std::size_t begin = all->size();
     pcl::PointCloud<PointRadar> pts = sweep.points;
     setPointCovariances(pts, out.mountings[sweep.sensor_id].yaw, options_.covariance_model, options_.polar);
+    all->insert(all->end(), pts.begin(), pts.end());
     const float dt = static_cast<float>(1e-6 * static_cast<double>(cycle.timestamp_us - sweep.timestamp_us));
-    for (auto p : pts) {
+    for (std::size_t i = begin; i < all->size(); ++i) {
+      PointRadar& p = (*all)[i];
       const Eigen::Vector3d q = sweep.sensor_to_vehicle * Eigen::Vector3d(p.x, p.y, p.z);
       p.x = static_cast<float>(q.x());
       p.y = static_cast<float>(q.y());
-      p.z = static_cast<float>(q.z());
+      p.z = 0.f;
       p.sensor_id = sweep.sensor_id;
       p.time_offset = -dt;
-      all.push_back(p);
-      sweep_dt.push_back(dt);
     }
+    sweep_end.push_back(all->size());
+    sweep_dt.push_back(dt);
   }
-  out.raw_points = all.size();
+  out.raw_points = all->size();
 
   // 2. Ego-velocity from the Doppler of all radars (RANSAC), 3. moving detections removed.
-  std::vector<bool> inlier;
   const EgoVelocityEstimator estimator(options_.ego_velocity);
-  out.ego = estimator.estimate(all, out.mountings, &inlier);
+  out.ego = estimator.estimate(*all, out.mountings);
   Eigen::Vector3d v = out.ego.velocity;
   if (!out.ego.valid && fallback) v = fallback->velocity;
-  std::vector<std::size_t> keep;
-  keep.reserve(all.size());
+  pcl::Indices keep;
   if (options_.remove_moving && (out.ego.valid || fallback)) {
     DopplerOutlierRemoval<PointRadar> filter;
-    filter.setInputCloud(all.makeShared());
+    filter.setInputCloud(all);
     filter.setEgoVelocity(v);
     filter.setMountings(out.mountings);
     filter.setThreshold(options_.ego_velocity.inlier_threshold);
-    pcl::Indices idx;
-    filter.filter(idx);
-    keep.assign(idx.begin(), idx.end());
+    filter.filter(keep);
   } else {
-    for (std::size_t i = 0; i < all.size(); ++i) keep.push_back(i);
+    keep.resize(all->size());
+    for (std::size_t i = 0; i < all->size(); ++i) keep[i] = static_cast<pcl::index_t>(i);
   }
-  out.removed_moving = all.size() - keep.size();
+  out.removed_moving = all->size() - keep.size();
 
-  // 4. Each sweep to the reference time: the vehicle moved by exp(v·dt) since the sweep.
+  // 4. Each sweep to the reference time: the vehicle moved by exp(v·dt) since the sweep (kept
+  // indices are increasing, so each sweep's points are one run of `keep`).
   auto& cloud = *out.cloud;
   cloud.reserve(keep.size());
-  for (const std::size_t i : keep) {
-    PointRadar p = all[i];
-    const double dt = sweep_dt[i];
-    if (options_.compensate_time && dt != 0.0) {
-      const Pose2 motion = integrateVelocity(v, dt);
-      const double c = std::cos(motion.z()), s = std::sin(motion.z());
-      const double dx = p.x - motion.x(), dy = p.y - motion.y();
-      p.x = static_cast<float>(c * dx + s * dy);
-      p.y = static_cast<float>(-s * dx + c * dy);
-      Eigen::Matrix2d C, R;
-      C << p.cov_xx, p.cov_xy, p.cov_xy, p.cov_yy;
-      R << c, s, -s, c;
-      C = R * C * R.transpose();
-      p.cov_xx = static_cast<float>(C(0, 0));
-      p.cov_xy = static_cast<float>(C(0, 1));
-      p.cov_yy = static_cast<float>(C(1, 1));
-    }
-    cloud.push_back(p);
+  std::size_t k = 0;
+  for (std::size_t s = 0; s < cycle.sweeps.size(); ++s) {
+    const std::size_t first = cloud.size();
+    for (; k < keep.size() && static_cast<std::size_t>(keep[k]) < sweep_end[s]; ++k) cloud.push_back((*all)[keep[k]]);
+    const double dt = sweep_dt[s];
+    if (!options_.compensate_time || dt == 0.0 || first == cloud.size()) continue;
+    pcl::PointCloud<PointRadar> run;
+    run.assign(cloud.begin() + static_cast<std::ptrdiff_t>(first), cloud.end(), 1);
+    transformWithUncertainty(run, integrateVelocity(v, dt), Eigen::Matrix3d::Zero());
+    std::copy(run.begin(), run.end(), cloud.begin() + static_cast<std::ptrdiff_t>(first));
   }
   cloud.width = static_cast<std::uint32_t>(cloud.size());
   cloud.height = 1;

@@ -29,6 +29,16 @@ const char* toString(Method method);
 /// distance). nullptr for Method::Doppler.
 RadarRegistration::Ptr makeMatcher(Method method, double grid);
 
+/// The settings README documents for pcl::NormalDistributionsTransform wherever it is compared
+/// with ours (any point type): resolution = grid, step 0.5, ε 1e-4, at most 50 iterations.
+template <typename PclNdt>
+void applyPclNdtSettings(PclNdt& ndt, double grid) {
+  ndt.setResolution(static_cast<float>(grid));
+  ndt.setStepSize(0.5);
+  ndt.setTransformationEpsilon(1e-4);
+  ndt.setMaximumIterations(50);
+}
+
 /// Sets the grid size of a matcher made by makeMatcher (used by the failure retries).
 void setMatcherGrid(RadarRegistration& matcher, double grid);
 

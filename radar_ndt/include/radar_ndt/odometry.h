@@ -81,6 +81,8 @@ class Odometry {
   /// `matcher` nullptr: dead reckoning with the Doppler ego-velocity (Kellner's baseline).
   Odometry(const OdometryOptions& options, RadarRegistration::Ptr matcher);
 
+  /// Adds a front-end cycle. Its cloud is planar (z = 0, as AutomotiveFrontEnd gives it): ours
+  /// ignores z, PCL's 3D matchers would not.
   const OdometryStep& add(const ProcessedCycle& cycle);
 
   const std::vector<OdometryStep>& steps() const { return steps_; }

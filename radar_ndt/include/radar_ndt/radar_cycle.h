@@ -52,7 +52,8 @@ struct RadarCycle {
   std::vector<RadarSweepData> sweeps;
 };
 
-/// A cycle after the front-end: one cloud in the vehicle frame at the reference time.
+/// A cycle after the front-end: one cloud in the vehicle frame at the reference time, planar
+/// (z = 0: the sensors' mounting height is not an elevation measurement).
 struct ProcessedCycle {
   std::int64_t timestamp_us = 0;
   pcl::PointCloud<PointRadar>::Ptr cloud{new pcl::PointCloud<PointRadar>};

@@ -1,0 +1,240 @@
+#pragma once
+// radar_sim: a scanning-radar (Navtech CTS350-X) and automotive-radar (Continental ARS408)
+// simulator in a procedurally generated 2D world, driven along a given trajectory. It is the only
+// source of scanning-radar data with ground truth here, so it models what makes real scans hard:
+// per-azimuth acquisition times (motion distortion), beam-width and range smearing, power falling
+// with range and depending on the material, occlusion, speckle, multipath ghosts, receiver
+// saturation lines, near-range leakage and a range-dependent noise floor; moving cars and buses.
+// Everything is deterministic for a seed: each frame draws from its own generator seeded by
+// (seed, frame), so a frame does not depend on which frames were rendered before it.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/se2.h"
+
+namespace radar_ndt {
+namespace sim {
+
+/// A planar trajectory with timestamps, interpolated in time (position linearly, heading along
+/// the shortest arc) and by arc length.
+class SimTrajectory {
+ public:
+  SimTrajectory() = default;
+  /// Poses of `trajectory` (projected to SE(2)); its stamps when it has them, else k · period.
+  SimTrajectory(const Trajectory& trajectory, double period);
+  SimTrajectory(std::vector<double> stamps, std::vector<Pose2> poses);
+
+  std::size_t size() const { return poses_.size(); }
+  double startTime() const { return stamps_.front(); }
+  double endTime() const { return stamps_.back(); }
+  const std::vector<double>& stamps() const { return stamps_; }
+  const std::vector<Pose2>& poses() const { return poses_; }
+  /// Pose at time t (clamped to the ends).
+  Pose2 at(double t) const;
+  /// Body-frame velocity (vx, vy, ω) at time t, from the segment around t.
+  Eigen::Vector3d velocity(double t) const;
+  double length() const { return arc_.empty() ? 0.0 : arc_.back(); }
+  /// Position and heading at arc length s along the path; beyond the ends, straight on.
+  Pose2 atArc(double s) const;
+  /// Arc length travelled at time t.
+  double arcAt(double t) const;
+
+ private:
+  std::size_t segment(double t) const;
+  std::vector<double> stamps_;
+  std::vector<Pose2> poses_;
+  std::vector<double> arc_;  ///< cumulative path length at each pose
+};
+
+/// A built-in city drive for demos and tests (no file needed): pulls away, cruises at up to
+/// 12 m/s with left and right 90° turns, a bend and a stop at a junction; poses every `period` s.
+SimTrajectory builtinDrive(double duration, double period = 0.25);
+
+enum class Material : std::uint8_t { Building, Car, Bus, Pole, Trunk, Crown, Fence, Hedge, Wall };
+const char* toString(Material m);
+
+/// What each material returns and lets through. Power in dB relative to a building facade hit
+/// at normal incidence at 10 m.
+struct MaterialModel {
+  double reflect_db;      ///< power at 10 m, normal incidence
+  double transmission;    ///< share of the power that goes on behind it (0: opaque)
+  double depth;           ///< m of range over which it returns (volume scattering)
+  double incidence_exp;   ///< power ∝ |cos incidence|^exp (0: cylinders, rough surfaces)
+  double rcs_dbsm;        ///< ARS408 radar cross-section of one detection
+};
+const MaterialModel& materialModel(Material m);
+
+struct WorldOptions {
+  std::uint64_t seed = 1;
+  double road_half_width_min = 4.0;   ///< m, kerb to the path's centre line
+  double road_half_width_max = 8.0;
+  double building_probability = 0.6; ///< per side and 30 m block: a facade (else open land)
+  double facade_gap_probability = 0.2;  ///< per 3–9 m facade piece: a gap (alleys, drives)
+  double open_land_objects = 6.0;     ///< per side and open block: mean scattered buildings, bushes, cars
+  double parked_car_probability = 0.35;  ///< per 6 m slot along the kerb
+  double pole_spacing = 25.0;         ///< m, mean
+  double tree_probability = 0.4;      ///< per 12 m slot
+  double fence_probability = 0.25;    ///< per block, where there is no facade
+  double hedge_probability = 0.3;     ///< per block, where there is no facade
+  double movers_per_km = 12.0;        ///< moving cars and buses per km of path
+  double bus_share = 0.25;
+};
+
+struct Segment {
+  Eigen::Vector2d a, b;
+  Material material;
+};
+struct Circle {
+  Eigen::Vector2d c;
+  double r;
+  Material material;
+};
+/// A vehicle moving along the ego path at its own constant speed, in its own lane.
+struct Mover {
+  double s0;        ///< arc length at t = 0 (or, following the ego, the gap ahead of it)
+  double speed;     ///< m/s along the path (negative: oncoming)
+  bool follows_ego; ///< drives the ego's own path `s0` metres ahead of it, at its speed
+  double lateral;   ///< m left of the path's centre line
+  double length, width;
+  double t_start, t_end;  ///< alive between these times (s)
+  Material material;
+};
+
+struct Hit {
+  double range;       ///< m from the ray origin
+  double cos_incidence;
+  Material material;
+  double depth;       ///< m of range the return spreads over
+  Eigen::Vector2d velocity;  ///< world-frame velocity of the surface (movers), m/s
+  Eigen::Vector2d normal;    ///< unit surface normal facing the ray origin
+  std::uint32_t id;          ///< primitive id (segments, then circles); movers: kMoverBit | index
+};
+constexpr std::uint32_t kMoverBit = 0x80000000u;
+
+/// The generated world: static segments and circles along the path, with a grid index, and the
+/// movers. Rays see everything up to and including the first opaque surface. cast() keeps
+/// per-world scratch state: one world is used by one thread at a time.
+class World {
+ public:
+  static World generate(const SimTrajectory& path, const WorldOptions& options);
+  /// A world of given primitives (tests, hand-made scenes). Movers follow `path`. The world keeps
+  /// a pointer to `path`, as generate() does: it must outlive the world.
+  static World fromPrimitives(const SimTrajectory& path, std::vector<Segment> segments, std::vector<Circle> circles,
+                              std::vector<Mover> movers = {});
+
+  /// Hits along the ray from `origin` in direction `angle` (world frame) at time t, nearest
+  /// first, up to `max_range`, ending at the first opaque one. `movers` restricts the movers
+  /// tested (indices from activeMovers()).
+  void cast(const Eigen::Vector2d& origin, double angle, double t, double max_range, const std::vector<int>& movers,
+            std::vector<Hit>& hits) const;
+  /// Movers alive at t within `radius` of `centre`.
+  std::vector<int> activeMovers(const Eigen::Vector2d& centre, double radius, double t) const;
+  /// A mover's pose (x, y, heading) and world velocity at time t.
+  void moverState(const Mover& m, double t, Pose2& pose, Eigen::Vector2d& velocity) const;
+
+  const std::vector<Segment>& segments() const { return segments_; }
+  const std::vector<Circle>& circles() const { return circles_; }
+  const std::vector<Mover>& movers() const { return movers_; }
+
+ private:
+  void index();
+  const SimTrajectory* path_ = nullptr;
+  std::vector<Segment> segments_;
+  std::vector<Circle> circles_;
+  std::vector<Mover> movers_;
+  double cell_ = 8.0;
+  // grid cell key → primitive ids (segments: id, circles: id + segments_.size())
+  std::vector<std::pair<std::int64_t, std::uint32_t>> cell_items_;  // sorted by key
+  mutable std::vector<std::uint32_t> mailbox_;
+  mutable std::uint32_t ray_id_ = 0;
+};
+
+/// Navtech CTS350-X scanning radar, Oxford Radar RobotCar layout.
+struct ScanningOptions {
+  int azimuths = 400;
+  int bins = 3768;
+  double range_resolution = 0.0438;   ///< m per bin (the dataset's figure)
+  double sweep_period = 0.25;         ///< s (4 Hz)
+  int encoder_size = 5600;
+  double beam_width_deg = 2.0;        ///< −3 dB, smeared across neighbouring azimuths
+  int beam_rays = 7;                  ///< sub-rays across ±0.9 beam widths
+  double range_psf_sigma = 0.12;      ///< m, main lobe of the range response
+  double range_sidelobe_db = -30.0;   ///< range sidelobe level relative to the peak
+  double range_sidelobe_length = 1.0; ///< m, exponential decay of the sidelobes
+  double range_loss_db_per_decade = 10.0;  ///< power fall with range beyond 10 m
+  double target_snr_db = 31.0;        ///< a facade at 10 m, normal incidence, over the noise mean
+  double noise_rise_db = 3.5;         ///< noise mean grows by this much from 0 to max range
+  double display_db_range = 44.0;     ///< dB spanned by 0..255
+  double noise_display_level = 0.115; ///< 0..1 value of the noise mean
+  double speckle_looks = 2.0;         ///< target fluctuation: gamma shape (1: Rayleigh)
+  /// Share of facades and vehicle sides smooth enough to mirror (chosen per surface, so a ghost
+  /// is a coherent mirrored structure, not salt noise): the beam bounces off them and what it
+  /// meets next appears behind the mirror, at the total path length.
+  double ghost_probability = 0.3;
+  double ghost_attenuation_db = 12.0; ///< ghost power below the direct return of what it shows
+  double saturation_probability = 0.002;  ///< per azimuth: a bright saturated line
+  double saturation_db = 10.0;
+  double leakage_db = 34.0;           ///< near-range leakage (first ~1.5 m) over the noise
+  double max_range = 165.0;           ///< m rendered (beyond: noise only)
+};
+
+/// ARS408-21 automotive radars with nuScenes' five mountings.
+struct AutomotiveOptions {
+  double period = 1.0 / 13.0;         ///< s per sweep of each radar
+  double jitter = 0.002;              ///< s, per-sweep timing jitter
+  double near_fov_deg = 60.0, near_range = 70.0;   ///< ± azimuth
+  double far_fov_deg = 9.0, far_range = 200.0;
+  double ray_step_deg = 0.5;
+  double detection_probability = 0.35;///< per surface return (before merging into clusters)
+  double cluster_distance = 1.0;      ///< m: returns closer than this merge into one detection
+  int max_detections = 125;
+  double clutter_per_sweep = 4.0;     ///< mean false detections a sweep
+  double range_sigma = 0.15;          ///< m (ARS408 spec: 0.1 near … 0.4 far)
+  double azimuth_sigma_deg = 0.3;     ///< (spec: 0.1° … 1°)
+  double rcs_sigma_db = 3.0;
+  double doppler_sigma = 0.1;         ///< m/s
+  double ghost_probability = 0.05;    ///< per detection on a vehicle: a mirrored multipath ghost
+};
+
+struct SequenceOptions {
+  std::size_t start = 0;       ///< first trajectory pose used
+  std::size_t frames = 0;      ///< frames written (scans / front-radar sweeps); 0: as many as the trajectory has
+  std::int64_t start_stamp_us = 1547120000000000;  ///< the first frame's timestamp
+  int png_compression = 1;     ///< zlib level of the scan PNGs (fast)
+  bool progress = false;        ///< a progress line on stderr
+  std::string scene_name = "sim-0001";  ///< automotive: the scene's name in scene.json
+};
+
+/// One scan at time `t` (s, trajectory time) rendered into `scan` (Oxford conventions).
+/// `frame` seeds the scan's random draws together with the world's seed.
+void renderScan(const World& world, const SimTrajectory& ego, double t, std::uint64_t seed, std::uint64_t frame,
+                const ScanningOptions& options, PolarScan& scan);
+
+struct SequenceSummary {
+  std::size_t frames = 0;
+  double duration = 0.0;     ///< s simulated
+  double distance = 0.0;     ///< m driven
+  double seconds = 0.0;      ///< wall time
+};
+
+/// Writes an Oxford-layout sequence into `dir`: radar/<stamp>.png, radar.timestamps,
+/// gt/radar_odometry.csv (Oxford axes), and gt/poses.txt (KITTI, vehicle frame, z up, first pose
+/// identity, one line a scan: a convenience for radar_eval). Scan timestamps mark the sweep's
+/// first azimuth (as in Oxford); azimuth a is taken at stamp + a · period / azimuths.
+SequenceSummary writeScanningSequence(const std::string& dir, const SimTrajectory& ego, const WorldOptions& world,
+                                      const ScanningOptions& options, const SequenceOptions& sequence);
+
+/// Writes a nuScenes-layout dataroot into `dir`: v1.0-sim/{sensor,calibrated_sensor,sample_data,
+/// ego_pose,sample,scene,log}.json and samples|sweeps/RADAR_*/...pcd (binary, the 18-field
+/// layout), one scene.
+SequenceSummary writeAutomotiveSequence(const std::string& dir, const SimTrajectory& ego, const WorldOptions& world,
+                                        const AutomotiveOptions& options, const SequenceOptions& sequence);
+
+}  // namespace sim
+}  // namespace radar_ndt

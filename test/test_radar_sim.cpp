@@ -1,0 +1,266 @@
+// radar_sim: determinism, motion distortion, occlusion, realism against the real RADIATE scans,
+// and the automotive dataroot read back by the nuScenes reader.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/power_threshold.h"
+#include "radar_ndt/radar_sim.h"
+
+using namespace radar_ndt;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string tempDir(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("radar_ndt_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p.string();
+}
+
+std::string readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// Straight drive along +x at `speed` m/s for 10 s.
+sim::SimTrajectory straight(double speed) {
+  std::vector<double> t;
+  std::vector<Pose2> p;
+  for (int k = 0; k <= 40; ++k) {
+    t.push_back(0.25 * k);
+    p.emplace_back(speed * 0.25 * k, 0.0, 0.0);
+  }
+  return sim::SimTrajectory(t, p);
+}
+
+/// Options with no random artefacts (ghosts, saturation lines) for geometric checks.
+sim::ScanningOptions clean() {
+  sim::ScanningOptions o;
+  o.ghost_probability = 0.0;
+  o.saturation_probability = 0.0;
+  return o;
+}
+
+/// Range (m) of the leading edge of the strongest return along azimuth `a` between `lo` and `hi`
+/// metres: the first bin above half way from the noise floor to the peak (a surface returns from
+/// its front face over its depth, so the edge, not the peak, is where it is).
+double edgeRange(const PolarScan& s, int a, double lo, double hi) {
+  int best = -1, first = -1;
+  double floor = 0;
+  int n = 0;
+  for (int b = 0; b < s.bins; ++b) {
+    const double r = s.rangeOf(b);
+    if (r < lo || r > hi) continue;
+    if (first < 0) first = b;
+    floor += s.row(a)[b];
+    ++n;
+    if (best < 0 || s.row(a)[b] > s.row(a)[best]) best = b;
+  }
+  floor /= n;
+  const double half = 0.5 * (floor + s.row(a)[best]);
+  int b = best;
+  while (b > first && s.row(a)[b - 1] > half) --b;
+  return s.rangeOf(b);
+}
+
+/// Mean pixel value along azimuth `a` within [lo, hi] m.
+double meanPower(const PolarScan& s, int a, double lo, double hi) {
+  double sum = 0;
+  int n = 0;
+  for (int b = 0; b < s.bins; ++b) {
+    const double r = s.rangeOf(b);
+    if (r < lo || r > hi) continue;
+    sum += s.row(a)[b];
+    ++n;
+  }
+  return sum / n / 255.0;
+}
+
+}  // namespace
+
+TEST(RadarSim, DeterministicForASeed) {
+  const sim::SimTrajectory ego = sim::builtinDrive(40.0);
+  sim::WorldOptions wo;
+  wo.seed = 3;
+  const sim::World w1 = sim::World::generate(ego, wo), w2 = sim::World::generate(ego, wo);
+  EXPECT_EQ(w1.segments().size(), w2.segments().size());
+  EXPECT_GT(w1.segments().size(), 100u);
+  EXPECT_GT(w1.circles().size(), 10u);
+  EXPECT_FALSE(w1.movers().empty());
+  PolarScan a, b, c, d;
+  sim::renderScan(w1, ego, 20.0, 3, 5, sim::ScanningOptions(), a);
+  sim::renderScan(w2, ego, 20.0, 3, 5, sim::ScanningOptions(), b);
+  EXPECT_EQ(a.power, b.power);
+  // A frame does not depend on what was rendered before it; another frame number or seed differs.
+  sim::renderScan(w1, ego, 20.0, 3, 6, sim::ScanningOptions(), c);
+  EXPECT_NE(a.power, c.power);
+  sim::renderScan(w1, ego, 20.0, 3, 5, sim::ScanningOptions(), d);
+  EXPECT_EQ(a.power, d.power);
+  wo.seed = 4;
+  const sim::World w3 = sim::World::generate(ego, wo);
+  EXPECT_NE(w3.segments().size() + 1000 * w3.circles().size(), w1.segments().size() + 1000 * w1.circles().size());
+
+  // Whole sequences: byte-identical files.
+  const std::string d1 = tempDir("sim_det1"), d2 = tempDir("sim_det2");
+  sim::SequenceOptions seq;
+  seq.start = 40;
+  seq.frames = 3;
+  wo.seed = 3;
+  sim::writeScanningSequence(d1, ego, wo, sim::ScanningOptions(), seq);
+  sim::writeScanningSequence(d2, ego, wo, sim::ScanningOptions(), seq);
+  for (const char* f : {"radar.timestamps", "gt/radar_odometry.csv", "gt/poses.txt", "radar/1547120000250000.png"})
+    EXPECT_EQ(readBytes(d1 + "/" + f), readBytes(d2 + "/" + f)) << f;
+  EXPECT_FALSE(readBytes(d1 + "/radar/1547120000250000.png").empty());
+  fs::remove_all(d1);
+  fs::remove_all(d2);
+}
+
+TEST(RadarSim, MotionDistortion) {
+  // Walls across the road 20 m ahead and 20 m behind the start; the ego drives at 10 m/s.
+  const sim::SimTrajectory ego = straight(10.0);
+  const sim::World w = sim::World::fromPrimitives(
+      ego, {{{20, -30}, {20, 30}, sim::Material::Building}, {{-20, -30}, {-20, 30}, sim::Material::Building}}, {});
+  PolarScan s;
+  sim::renderScan(w, ego, 0.0, 1, 0, clean(), s);
+  // Azimuth timestamps spread over the sweep.
+  EXPECT_EQ(s.stamp_us.back() - s.stamp_us.front(), 249375);
+  for (int a = 1; a < s.azimuths; ++a) EXPECT_GT(s.stamp_us[a], s.stamp_us[a - 1]);
+  // Azimuth 0 (t = 0): the front wall at 20 m; azimuth 200 (behind, t = 0.125 s, ego at 1.25 m):
+  // the rear wall at 21.25 m; azimuth 399 (front again, t ≈ 0.249 s): the front wall at ≈ 17.5 m.
+  EXPECT_NEAR(edgeRange(s, 0, 5, 40), 20.0, 0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
+  EXPECT_NEAR(edgeRange(s, 200, 5, 40), 21.25, 0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
+  EXPECT_NEAR(edgeRange(s, 399, 5, 40), 20.0 - 10.0 * 0.249375, 0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
+  // Standing still: no distortion.
+  const sim::SimTrajectory still = straight(0.0 + 1e-9);
+  const sim::World w0 = sim::World::fromPrimitives(
+      still, {{{20, -30}, {20, 30}, sim::Material::Building}, {{-20, -30}, {-20, 30}, sim::Material::Building}}, {});
+  sim::renderScan(w0, still, 0.0, 1, 0, clean(), s);
+  EXPECT_NEAR(edgeRange(s, 399, 5, 40), 20.0, 0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
+  EXPECT_NEAR(edgeRange(s, 200, 5, 40), 20.0, 0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
+}
+
+TEST(RadarSim, OcclusionAndTransmission) {
+  const sim::SimTrajectory ego = straight(1e-9);
+  // A facade 10 m ahead hides one 25 m ahead; off to the side (no facade in front) the far one shows.
+  const sim::World w = sim::World::fromPrimitives(
+      ego, {{{10, -3}, {10, 3}, sim::Material::Building}, {{25, -40}, {25, 40}, sim::Material::Building}}, {});
+  PolarScan s;
+  sim::renderScan(w, ego, 0.0, 1, 0, clean(), s);
+  const double noise = meanPower(s, 0, 40, 60);
+  EXPECT_GT(meanPower(s, 0, 9.8, 10.4), noise + 0.3);                       // the near facade
+  EXPECT_LT(meanPower(s, 0, 24.8, 25.4), noise + 0.03);                      // hidden
+  const int side = 400 - 40;  // 36° to the left: misses the near facade, meets the far one at 30.9 m
+  EXPECT_NEAR(edgeRange(s, side, 5, 60), 25.0 / std::cos(36 * M_PI / 180), 0.3);
+  // A tree crown lets part of the beam through: the facade behind it still shows, weaker.
+  const sim::World t = sim::World::fromPrimitives(ego, {{{25, -40}, {25, 40}, sim::Material::Building}},
+                                                  {{{12, 0}, 2.0, sim::Material::Crown}});
+  PolarScan behind_tree, open;
+  sim::renderScan(t, ego, 0.0, 1, 0, clean(), behind_tree);
+  const sim::World o = sim::World::fromPrimitives(ego, {{{25, -40}, {25, 40}, sim::Material::Building}}, {});
+  sim::renderScan(o, ego, 0.0, 1, 0, clean(), open);
+  const double through = meanPower(behind_tree, 0, 24.8, 25.6), clear = meanPower(open, 0, 24.8, 25.6);
+  EXPECT_GT(through, noise + 0.1);
+  EXPECT_LT(through, clear);
+  EXPECT_GT(meanPower(behind_tree, 0, 9.5, 14.0), noise + 0.05);  // the crown itself returns
+}
+
+TEST(RadarSim, BeamSmearsAPoleAcrossAzimuths) {
+  const sim::SimTrajectory ego = straight(1e-9);
+  const sim::World w = sim::World::fromPrimitives(ego, {}, {{{30, 0}, 0.12, sim::Material::Pole}});
+  PolarScan s;
+  sim::renderScan(w, ego, 0.0, 1, 0, clean(), s);
+  const double noise = meanPower(s, 100, 20, 40);
+  int lit = 0;
+  for (int a : {398, 399, 0, 1, 2}) lit += meanPower(s, a, 29.8, 30.3) > noise + 0.1;
+  EXPECT_GE(lit, 3);  // 2° beam over 0.9° azimuth steps
+  EXPECT_LT(meanPower(s, 10, 29.8, 30.3), noise + 0.05);  // 9° off: dark
+}
+
+TEST(RadarSim, RealismAgainstRadiate) {
+  // The realism target, at a looser margin than the ±30 % README measures on 10 scans.
+  const std::string dir = std::string(RADAR_NDT_SHARED_DATA) + "/radiate-tiny-foggy/Navtech_Polar";
+  if (!fs::exists(dir)) GTEST_SKIP() << "no " << dir << " (../shared/data is absent): skipping the realism check";
+  const PowerThreshold front;
+  std::vector<PowerStatistics> real, simulated;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().extension() == ".png") real.push_back(powerStatistics(front.cartesianImage(readRadiatePolarPng(e.path().string())), 0.333f));
+  const sim::SimTrajectory ego = sim::builtinDrive(120.0);
+  sim::WorldOptions wo;
+  const sim::World w = sim::World::generate(ego, wo);
+  PolarScan s;
+  for (int k = 0; k < 5; ++k) {
+    sim::renderScan(w, ego, 20.0 + 20.0 * k, wo.seed, k, sim::ScanningOptions(), s);
+    simulated.push_back(powerStatistics(front.cartesianImage(s), 0.333f));
+  }
+  const PowerStatistics r = medianStatistics(real), m = medianStatistics(simulated);
+  EXPECT_NEAR(m.fraction_above / r.fraction_above, 1.0, 0.4);
+  EXPECT_NEAR(m.p50 / r.p50, 1.0, 0.4);
+  EXPECT_NEAR(m.p90 / r.p90, 1.0, 0.4);
+  EXPECT_NEAR(m.p99 / r.p99, 1.0, 0.4);
+  EXPECT_GT(m.points, r.points / 3);
+  EXPECT_LT(m.points, r.points * 3);
+}
+
+TEST(RadarSim, AutomotiveDatarootReadsBack) {
+  const std::string dir = tempDir("sim_auto");
+  const sim::SimTrajectory ego = sim::builtinDrive(40.0);
+  sim::WorldOptions wo;
+  wo.seed = 11;
+  sim::SequenceOptions seq;
+  seq.start = 40;  // under way
+  seq.frames = 40;
+  sim::writeAutomotiveSequence(dir, ego, wo, sim::AutomotiveOptions(), seq);
+
+  const NuScenesDataset data(dir);
+  ASSERT_EQ(data.scenes().size(), 1u);
+  EXPECT_EQ(data.scenes()[0].name, "sim-0001");
+  ASSERT_EQ(data.radarChannels().size(), 5u);
+  const auto sweeps = data.radarSweeps(data.scenes()[0]);
+  std::map<std::string, std::vector<std::int64_t>> stamps;
+  for (const auto& s : sweeps) stamps[s.channel].push_back(s.timestamp_us);
+  ASSERT_EQ(stamps.size(), 5u);
+  EXPECT_EQ(stamps["RADAR_FRONT"].size(), 40u);
+  for (const auto& [channel, t] : stamps) {
+    EXPECT_GE(t.size(), 38u) << channel;
+    for (std::size_t k = 1; k < t.size(); ++k) EXPECT_NEAR((t[k] - t[k - 1]) * 1e-6, 1.0 / 13.0, 0.005) << channel;
+  }
+  EXPECT_NE(stamps["RADAR_FRONT"][3], stamps["RADAR_FRONT_LEFT"][3]);  // unsynchronised
+
+  // Every sweep: ego pose = the trajectory at its time; stationary detections carry the Doppler
+  // of the sensor's own motion.
+  std::size_t points = 0;
+  std::vector<double> residual;
+  for (const auto& s : sweeps) {
+    const double t = ego.stamps()[seq.start] + (s.timestamp_us - seq.start_stamp_us) * 1e-6;
+    const Pose2 truth = ego.at(t);
+    const Pose2 pose = toPose2(s.ego_to_global);
+    EXPECT_NEAR(pose.x(), truth.x(), 1e-4);  // timestamps are whole µs
+    EXPECT_NEAR(pose.y(), truth.y(), 1e-4);
+    EXPECT_NEAR(normalizeAngle(pose.z() - truth.z()), 0.0, 1e-6);
+    const auto cloud = readNuScenesRadarPcd(s.path, NuScenesRadarFilter(), 0);
+    points += cloud.size();
+    const Pose2 mount = toPose2(s.sensor_to_ego);
+    const Eigen::Vector3d v = ego.velocity(t);
+    const Eigen::Vector2d vs(v.x() - v.z() * mount.y(), v.y() + v.z() * mount.x());  // sensor velocity, vehicle axes
+    const double c = std::cos(mount.z()), sn = std::sin(mount.z());
+    const Eigen::Vector2d v_sensor(c * vs.x() + sn * vs.y(), -sn * vs.x() + c * vs.y());  // sensor axes
+    for (const auto& p : cloud) {
+      const double r = std::hypot(p.x, p.y);
+      if (r < 1.0) continue;
+      residual.push_back(std::abs(p.doppler + (v_sensor.x() * p.x + v_sensor.y() * p.y) / r));
+    }
+  }
+  EXPECT_GT(points / sweeps.size(), 10u);
+  EXPECT_LT(points / sweeps.size(), 126u);
+  std::nth_element(residual.begin(), residual.begin() + residual.size() / 2, residual.end());
+  EXPECT_LT(residual[residual.size() / 2], 0.2);  // most detections are stationary, σ = 0.1 m/s
+  fs::remove_all(dir);
+}

@@ -41,11 +41,12 @@ sim::SimTrajectory straight(double speed) {
   return sim::SimTrajectory(t, p);
 }
 
-/// Options with no random artefacts (ghosts, saturation lines) for geometric checks.
+/// Options with no random artefacts (ghosts, saturation lines, ground clutter) for geometric checks.
 sim::ScanningOptions clean() {
   sim::ScanningOptions o;
   o.ghost_probability = 0.0;
   o.saturation_probability = 0.0;
+  o.ground_clutter_cover = 0.0;
   return o;
 }
 
@@ -149,16 +150,20 @@ TEST(RadarSim, MotionDistortion) {
 
 TEST(RadarSim, OcclusionAndTransmission) {
   const sim::SimTrajectory ego = straight(1e-9);
-  // A facade 10 m ahead hides one 25 m ahead; off to the side (no facade in front) the far one shows.
+  // A facade 10 m ahead hides one 25 m ahead; off to the side (no facade in front) a pole at the
+  // same range shows.
+  const double side_angle = 36 * M_PI / 180;
   const sim::World w = sim::World::fromPrimitives(
-      ego, {{{10, -3}, {10, 3}, sim::Material::Building}, {{25, -40}, {25, 40}, sim::Material::Building}}, {});
+      ego, {{{10, -3}, {10, 3}, sim::Material::Building}, {{25, -5}, {25, 5}, sim::Material::Building}},
+      {{{25 * std::cos(side_angle), 25 * std::sin(side_angle)}, 0.12, sim::Material::Pole}});
   PolarScan s;
   sim::renderScan(w, ego, 0.0, 1, 0, clean(), s);
   const double noise = meanPower(s, 0, 40, 60);
   EXPECT_GT(meanPower(s, 0, 9.8, 10.4), noise + 0.3);                       // the near facade
   EXPECT_LT(meanPower(s, 0, 24.8, 25.4), noise + 0.03);                      // hidden
-  const int side = 400 - 40;  // 36° to the left: misses the near facade, meets the far one at 30.9 m
-  EXPECT_NEAR(edgeRange(s, side, 5, 60), 25.0 / std::cos(36 * M_PI / 180), 0.3);
+  const int side = 400 - 40;  // 36° to the left
+  EXPECT_NEAR(edgeRange(s, side, 5, 60), 25.0 - 0.12, 0.2);
+  EXPECT_GT(meanPower(s, side, 24.7, 25.1), noise + 0.2);
   // A tree crown lets part of the beam through: the facade behind it still shows, weaker.
   const sim::World t = sim::World::fromPrimitives(ego, {{{25, -40}, {25, 40}, sim::Material::Building}},
                                                   {{{12, 0}, 2.0, sim::Material::Crown}});

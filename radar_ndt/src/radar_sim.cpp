@@ -57,6 +57,23 @@ bool specular(std::uint64_t seed, std::uint32_t id, double probability) {
   return static_cast<double>(splitmix64(x) >> 11) * 0x1.0p-53 < probability;
 }
 
+/// The ground-clutter field at a world point: bilinear between 1 m cells, each cluttered with
+/// probability `cover` at an exponentially distributed strength of mean 1 (fixed per seed).
+double groundClutter(std::uint64_t seed, const Eigen::Vector2d& q, double cover) {
+  const double fx = std::floor(q.x()), fy = std::floor(q.y());
+  const double ux = q.x() - fx, uy = q.y() - fy;
+  const long ix = static_cast<long>(fx), iy = static_cast<long>(fy);
+  auto cell = [&](long x, long y) {
+    std::uint64_t h = seed * 0xbf58476d1ce4e5b9ULL ^ (static_cast<std::uint64_t>(x) * 0x9e3779b97f4a7c15ULL) ^
+                      (static_cast<std::uint64_t>(y) * 0xc2b2ae3d27d4eb4fULL);
+    const std::uint64_t r = splitmix64(h);
+    const double a = static_cast<double>(r >> 40) * 0x1.0p-24, b = (static_cast<double>(r & 0xffffff) + 0.5) * 0x1.0p-24;
+    return a < cover ? -std::log(b) : 0.0;
+  };
+  return (1 - ux) * (1 - uy) * cell(ix, iy) + ux * (1 - uy) * cell(ix + 1, iy) + (1 - ux) * uy * cell(ix, iy + 1) +
+         ux * uy * cell(ix + 1, iy + 1);
+}
+
 bool mirrors(Material m) { return m == Material::Building || m == Material::Car || m == Material::Bus || m == Material::Wall; }
 
 /// 10·log10 of an Exp(1) variate, tabulated on 2^16 quantiles (the noise floor's fast path).
@@ -132,7 +149,14 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
   const auto& exp_db = exponentialDbTable();
   std::vector<double> signal(B), forward(B), backward(B);
   std::vector<float> noise_db(B);
-  for (int b = 0; b < B; ++b) noise_db[b] = static_cast<float>(o.noise_rise_db * std::min((b + offset) * res / max_range, 1.0));
+  std::vector<double> noise_lin(B), range_gain(B);
+  const double clutter = o.ground_clutter_cover > 0 ? dbToLinear(o.ground_clutter_db) : 0.0;
+  for (int b = 0; b < B; ++b) {
+    const double r = (b + offset) * res;
+    noise_db[b] = static_cast<float>(o.noise_rise_db * std::min(r / max_range, 1.0));
+    noise_lin[b] = dbToLinear(noise_db[b]);
+    range_gain[b] = dbToLinear(-o.range_loss_db_per_decade * std::log10(std::max(r, 10.0) / 10.0));
+  }
   std::vector<Hit> hits, bounce;
 
   // Adds a return of linear power `p` spread over [r, r + depth] and blurred by the range PSF.
@@ -164,11 +188,14 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
     const Pose2 pose = ego.at(ta);
     const Eigen::Vector2d origin = pose.head<2>();
     std::fill(signal.begin(), signal.end(), 0.0);
+    double occluded = max_range;  // the central ray's first opaque surface (ground clutter stops there)
 
     for (int j = 0; j < o.beam_rays; ++j) {
       const double angle = pose.z() + scan.angle[a] + ray_offset[j];
       world.cast(origin, angle, ta, max_range, movers, hits);
       double through = 1.0;  // share of the power left after transmissive hits
+      if (j == o.beam_rays / 2 && !hits.empty() && materialModel(hits.back().material).transmission <= 0.0)
+        occluded = hits.back().range;
       for (const Hit& h : hits) {
         addReturn(h.range, h.depth, ray_gain[j] * through * hitPower(h, h.range));
         through *= materialModel(h.material).transmission;
@@ -200,18 +227,25 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
       for (int b = 0; b < B; ++b) signal[b] += sidelobe * (forward[b] + backward[b] - 2.0 * signal[b]);
     }
     const bool saturated = rng.chance(o.saturation_probability);
+    const double beam_angle = pose.z() + scan.angle[a];
+    const Eigen::Vector2d dir(std::cos(beam_angle), std::sin(beam_angle));
     std::uint8_t* row = scan.row(a);
     for (int b = 0; b < B; ++b) {
       const double r = (b + offset) * res;
       double s = signal[b];
       if (r < 3.0) s += leakage * std::exp(-r / 0.5);
-      const double noise_mean = 1.0;  // noise_db carries the rise with range
+      // Noise and Rayleigh ground clutter add up to one exponential of their summed mean.
+      double mean = noise_lin[b];
+      if (clutter > 0 && r < occluded) {
+        const double c = groundClutter(seed, origin + r * dir, o.ground_clutter_cover);
+        if (c > 0) mean += clutter * range_gain[b] * c;
+      }
       double db;
       if (s < 1e-3 && !saturated) {
-        db = noise_db[b] + exp_db[rng.next() >> 48];  // noise only
+        db = (mean == noise_lin[b] ? noise_db[b] : 10.0 * std::log10(mean)) + exp_db[rng.next() >> 48];
       } else {
         const double speckled = s * gammaMeanOne(rng, o.speckle_looks);
-        double i = noise_mean * dbToLinear(noise_db[b]) * -std::log(1.0 - rng.uniform()) + speckled;
+        double i = mean * -std::log(1.0 - rng.uniform()) + speckled;
         if (saturated) i += saturation * (0.8 + 0.4 * rng.uniform());
         db = 10.0 * std::log10(std::max(i, 1e-12));
       }

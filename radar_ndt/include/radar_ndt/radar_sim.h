@@ -168,10 +168,10 @@ struct ScanningOptions {
   double range_sidelobe_db = -30.0;   ///< range sidelobe level relative to the peak
   double range_sidelobe_length = 1.0; ///< m, exponential decay of the sidelobes
   double range_loss_db_per_decade = 10.0;  ///< power fall with range beyond 10 m
-  double target_snr_db = 31.0;        ///< a facade at 10 m, normal incidence, over the noise mean
+  double target_snr_db = 30.0;        ///< a facade at 10 m, normal incidence, over the noise mean
   double noise_rise_db = 3.5;         ///< noise mean grows by this much from 0 to max range
-  double display_db_range = 44.0;     ///< dB spanned by 0..255
-  double noise_display_level = 0.115; ///< 0..1 value of the noise mean
+  double display_db_range = 36.0;     ///< dB spanned by 0..255
+  double noise_display_level = 0.08;  ///< 0..1 value of the noise mean
   double speckle_looks = 2.0;         ///< target fluctuation: gamma shape (1: Rayleigh)
   /// Share of facades and vehicle sides smooth enough to mirror (chosen per surface, so a ghost
   /// is a coherent mirrored structure, not salt noise): the beam bounces off them and what it
@@ -181,6 +181,11 @@ struct ScanningOptions {
   double saturation_probability = 0.002;  ///< per azimuth: a bright saturated line
   double saturation_db = 10.0;
   double leakage_db = 34.0;           ///< near-range leakage (first ~1.5 m) over the noise
+  /// Diffuse ground clutter (grass, kerbs, gravel, litter): a fixed random field in the world,
+  /// seen up to the first opaque surface. Mean power over the noise at 10 m of a cluttered cell;
+  /// share of 1 m cells that are cluttered (bilinear between cells); Rayleigh-distributed.
+  double ground_clutter_db = 8.0;
+  double ground_clutter_cover = 0.4;
   double max_range = 165.0;           ///< m rendered (beyond: noise only)
 };
 

@@ -1,6 +1,7 @@
 // radar_sim: simulate a scanning-radar (Oxford Radar RobotCar layout) or automotive-radar
 // (nuScenes layout) sequence along a trajectory, or compare simulated scans with real ones.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -68,6 +69,8 @@ std::map<std::string, Setting> settings(sim::WorldOptions& w, sim::ScanningOptio
   m["saturation_probability"] = setting("scanning", s.saturation_probability, "per azimuth: a saturated bright line");
   m["saturation_db"] = setting("scanning", s.saturation_db, "dB over the noise of a saturated line");
   m["leakage_db"] = setting("scanning", s.leakage_db, "dB over the noise of the near-range leakage (first ~1.5 m)");
+  m["ground_clutter_db"] = setting("scanning", s.ground_clutter_db, "dB over the noise at 10 m of a cluttered 1 m ground cell (Rayleigh)");
+  m["ground_clutter_cover"] = setting("scanning", s.ground_clutter_cover, "share of 1 m ground cells with clutter (grass, kerbs, gravel)");
   m["max_range"] = setting("scanning", s.max_range, "m rendered (beyond: noise only)");
   m["period"] = setting("automotive", a.period, "s between sweeps of one radar (13 Hz)");
   m["jitter"] = setting("automotive", a.jitter, "s, uniform timing jitter of each sweep");
@@ -113,7 +116,7 @@ int main(int argc, char** argv) {
   std::string type = "scanning", trajectory_path, out, realism_dir, realism_png;
   std::size_t frames = 0, start = 0;
   std::uint64_t seed = 1;
-  double period = 0.25;
+  double period = 0.25, view_range = 62.5;
   int compression = 1;
   std::vector<std::string> sets;
   bool list = false, quiet = false;
@@ -134,6 +137,7 @@ int main(int argc, char** argv) {
     ("realism", po::value(&realism_dir), "compare: RADIATE Navtech_Polar scans in this directory vs --frames (default 10) simulated scans, "
                                          "Cartesian 0.125 m/px within 62.5 m; prints the statistics side by side")
     ("realism-png", po::value(&realism_png), "with --realism: write a simulated scan (left) and the first real one (right) as one PNG")
+    ("realism-view", po::value(&view_range)->default_value(62.5), "with --realism-png: show ±this many metres around the sensor")
     ("quiet,q", po::bool_switch(&quiet), "no progress line");
   // clang-format on
   const std::string usage =
@@ -200,11 +204,30 @@ int main(int argc, char** argv) {
       }
       const auto files = radiateScans(realism_dir);
       CartesianImage first_real;
+      PowerThresholdOptions polar_options;
+      polar_options.cartesian = false;
+      const PowerThreshold polar(polar_options);
+      std::vector<double> ms_cartesian, ms_polar, n_polar;
       for (const auto& f : files) {
-        const CartesianImage img = front.cartesianImage(readRadiatePolarPng(f));
+        const PolarScan real_scan = readRadiatePolarPng(f);
+        const CartesianImage img = front.cartesianImage(real_scan);
         real.push_back(powerStatistics(img, thr));
         if (real.size() == 1) first_real = img;
+        // The two front-end paths on the same real scan (points and time).
+        pcl::PointCloud<PointRadar> cloud;
+        auto t0 = std::chrono::steady_clock::now();
+        front.compute(real_scan, cloud);
+        auto t1 = std::chrono::steady_clock::now();
+        polar.compute(real_scan, cloud);
+        auto t2 = std::chrono::steady_clock::now();
+        ms_cartesian.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+        ms_polar.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+        n_polar.push_back(static_cast<double>(cloud.size()));
       }
+      auto median = [](std::vector<double> v) {
+        std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+        return v[v.size() / 2];
+      };
       const PowerStatistics s = medianStatistics(simulated), r = medianStatistics(real);
       std::printf("Realism: median over %zu simulated scans (%s, seed %llu) and %zu real RADIATE scans (%s)\n"
                   "Cartesian %.3f m/px within %.1f m (from %.1f m), threshold %.3f\n\n",
@@ -220,17 +243,22 @@ int main(int argc, char** argv) {
       row("power p90", s.p90, r.p90, true);
       row("power p99", s.p99, r.p99, true);
       row("points per scan", static_cast<double>(s.points), static_cast<double>(r.points), false);
+      std::printf("\nFront-end on the real scans (median): Cartesian %zu points in %.1f ms, polar %.0f points in %.2f ms\n",
+                  r.points, median(ms_cartesian), median(n_polar), median(ms_polar));
       if (!realism_png.empty()) {
-        const int size = first_sim.size;
-        if (first_real.size != size) throw std::logic_error("Cartesian images of different sizes");
+        const int full = first_sim.size;
+        if (first_real.size != full) throw std::logic_error("Cartesian images of different sizes");
+        const int size = std::clamp(2 * static_cast<int>(std::lround(view_range / first_sim.resolution)), 2, full);
+        const int off = (full - size) / 2;
         const auto a = toPixels(first_sim), b = toPixels(first_real);
         const int gap = 8, width = 2 * size + gap;
         std::vector<std::uint8_t> px(static_cast<std::size_t>(width) * size, 255);
         for (int y = 0; y < size; ++y) {
-          std::copy_n(&a[static_cast<std::size_t>(y) * size], size, &px[static_cast<std::size_t>(y) * width]);
-          std::copy_n(&b[static_cast<std::size_t>(y) * size], size, &px[static_cast<std::size_t>(y) * width + size + gap]);
+          const std::size_t src = static_cast<std::size_t>(y + off) * full + off;
+          std::copy_n(&a[src], size, &px[static_cast<std::size_t>(y) * width]);
+          std::copy_n(&b[src], size, &px[static_cast<std::size_t>(y) * width + size + gap]);
         }
-        writePng(realism_png, width, size, 1, px.data());
+        writePng(realism_png, width, size, 1, px.data(), 9);
         std::printf("\nwrote %s: simulated (left), %s (right), front up\n", realism_png.c_str(), files.front().c_str());
       }
       return 0;

@@ -1,5 +1,6 @@
 // radar_ndt_bench: times and scores WeightedNDT2D against PCL's NDT, NDT2D and ICP on the same
-// synthetic radar-like scan pairs with known transforms (identity initial guess).
+// synthetic radar-like scan pairs with known transforms (identity initial guess); --nuscenes: on
+// real automotive submap pairs; --oxford: the scanning front-end's two paths on a scan sequence.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -19,7 +20,9 @@
 #include "app_common.h"
 #include "radar_ndt/matchers.h"
 #include "radar_ndt/nuscenes_sequence.h"
+#include "radar_ndt/power_threshold.h"
 #include "radar_ndt/probabilistic_submap.h"
+#include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/radar_cycle.h"
 #include "radar_ndt/registration/weighted_ndt_2d.h"
 #include "radar_ndt/se2.h"
@@ -123,9 +126,70 @@ int benchNuScenes(const std::string& dataroot, std::size_t stride, bool json) {
   return 0;
 }
 
+/// The scanning front-end's two paths on the consecutive scan pairs of an Oxford-layout sequence
+/// (e.g. from radar_sim): points per scan, ms, and the error of scan-to-scan WeightedNDT2D (paper
+/// defaults g = 3.75 m, s = 0.333) from a constant-velocity guess (the previous ground-truth
+/// motion), against the ground truth of gt/radar_odometry.csv.
+int benchScanningFrontEnds(const std::string& dir, bool json) {
+  const auto stamps = readOxfordTimestamps(dir + "/radar.timestamps");
+  const auto gt = readOxfordRadarOdometry(dir + "/gt/radar_odometry.csv");
+  if (stamps.size() < 3 || gt.size() + 1 != stamps.size())
+    throw std::invalid_argument(dir + ": needs at least 3 scans and one gt/radar_odometry.csv row per consecutive pair");
+  auto truth = [&](std::size_t k) { return Pose2(gt[k].x, -gt[k].y, -gt[k].yaw); };  // Oxford axes → vehicle
+  nlohmann::json j;
+  j["pairs"] = stamps.size() - 2;
+  if (!json)
+    std::printf("radar_ndt_bench --oxford: %zu scan pairs of %s, WeightedNDT2D g = 3.75 m, s = 0.333, constant-velocity guess\n"
+                "%-10s %12s %14s %10s %14s %14s\n",
+                stamps.size() - 2, dir.c_str(), "front-end", "points/scan", "front-end ms", "match ms", "trans err m", "rot err deg");
+  for (const bool cartesian : {true, false}) {
+    PowerThresholdOptions o;
+    o.cartesian = cartesian;
+    const PowerThreshold front(o);
+    std::vector<double> points, ms_front, ms_match;
+    double et = 0, er = 0;
+    pcl::PointCloud<PointRadar>::Ptr previous;
+    for (std::size_t k = 0; k < stamps.size(); ++k) {
+      const PolarScan scan = readOxfordPolarPng(dir + "/radar/" + std::to_string(stamps[k].stamp) + ".png");
+      pcl::PointCloud<PointRadar>::Ptr cloud(new pcl::PointCloud<PointRadar>);
+      const auto t0 = std::chrono::steady_clock::now();
+      front.compute(scan, *cloud);
+      ms_front.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      points.push_back(static_cast<double>(cloud->size()));
+      if (k >= 2) {
+        WeightedNDT2D<PointRadar, PointRadar> ndt;
+        ndt.setResolution(3.75f);
+        ndt.setPowerShift(0.333f);
+        pcl::PointCloud<PointRadar> out;
+        const auto t1 = std::chrono::steady_clock::now();
+        ndt.setInputTarget(previous);
+        ndt.setInputSource(cloud);
+        ndt.align(out, toMatrix4<float>(truth(k - 2)));
+        ms_match.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count());
+        const Pose2 e = between(truth(k - 1), toPose2(ndt.getFinalTransformation()));
+        et += e.head<2>().norm();
+        er += std::abs(e.z()) * 180.0 / M_PI;
+      }
+      previous = cloud;
+    }
+    auto median = [](std::vector<double> v) {
+      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+      return v[v.size() / 2];
+    };
+    const double n = static_cast<double>(stamps.size() - 2);
+    const char* name = cartesian ? "cartesian" : "polar";
+    j["front_ends"][name] = {{"points_median", median(points)}, {"front_end_ms_median", median(ms_front)},
+                             {"match_ms_median", median(ms_match)}, {"trans_err_m", et / n}, {"rot_err_deg", er / n}};
+    if (!json)
+      std::printf("%-10s %12.0f %14.2f %10.2f %14.4f %14.4f\n", name, median(points), median(ms_front), median(ms_match), et / n, er / n);
+  }
+  if (json) std::cout << j.dump(2) << std::endl;
+  return 0;
+}
+
 int main(int argc, char** argv) {
   std::size_t pairs = 24, repeats = 1, nuscenes_stride = 5;
-  std::string nuscenes_root;
+  std::string nuscenes_root, oxford_dir;
   std::string sizes_text;
   double grid = 3.0, shift = 0.3, noise = 0.05, clutter = 0.15, max_t = 2.0, max_r = 3.0, icp_dist = 5.0;
   bool json = false, with_icp = true, with_ndt2d = true;
@@ -149,6 +213,7 @@ int main(int argc, char** argv) {
     ("no-ndt2d", po::bool_switch(), "skip pcl::NormalDistributionsTransform2D")
     ("variants", po::bool_switch(), "also run WeightedNDT2D with overlapping grids, and without the source voxel merge")
     ("nuscenes", po::value(&nuscenes_root), "instead: real N = 3 submap pairs from this nuScenes-layout dataroot (ours, PCL NDT, PCL ICP)")
+    ("oxford", po::value(&oxford_dir), "instead: the scanning front-end's Cartesian and polar paths on the scan pairs of this Oxford-layout sequence (e.g. radar_sim's)")
     ("nuscenes-stride", po::value(&nuscenes_stride)->default_value(5), "with --nuscenes: every k-th cycle")
     ("json", po::bool_switch(&json), "print one JSON object: per method ms_median, trans_err_m, rot_err_deg, converged_frac");
   // clang-format on
@@ -156,7 +221,8 @@ int main(int argc, char** argv) {
       "Usage: radar_ndt_bench [--pairs N] [--sizes 5000,10000,20000] [--json]\n"
       "Synthetic 2D radar-like scan pairs (walls, poles, arcs, low-power clutter, noise) with known\n"
       "transforms; every method aligns the same pairs from the identity. Time = setInputSource +\n"
-      "setInputTarget + align, single thread.";
+      "setInputTarget + align, single thread.\n"
+      "       radar_ndt_bench --nuscenes DIR | --oxford DIR   (real submap pairs | scanning front-ends)";
   po::variables_map vm;
   const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
   if (rc >= 0) return rc;
@@ -164,6 +230,7 @@ int main(int argc, char** argv) {
   with_ndt2d = !vm["no-ndt2d"].as<bool>();
 
   return apps::runGuarded("radar_ndt_bench", [&]() {
+    if (!oxford_dir.empty()) return benchScanningFrontEnds(oxford_dir, json);
     if (!nuscenes_root.empty()) return benchNuScenes(nuscenes_root, std::max<std::size_t>(1, nuscenes_stride), json);
     std::vector<std::size_t> sizes;
     {

@@ -42,6 +42,8 @@ struct CartesianImage {
   double y(int col) const { return (0.5 * size - col - 0.5) * resolution; }
 };
 
+/// Caches the per-pixel geometry of the last scan layout it saw, so one instance is used by one
+/// thread at a time (make one per thread; they are cheap).
 class PowerThreshold {
  public:
   explicit PowerThreshold(const PowerThresholdOptions& options = {});

@@ -81,6 +81,13 @@ struct PowerThreshold::Geometry {
   std::vector<std::uint32_t> pixel;  ///< pixels inside the ring
   std::vector<float> bin;            ///< fractional range bin of each
   std::vector<float> theta;          ///< its angle in [0, 2π)
+  // Bilinear sampling of each pixel, valid for scans with these azimuth angles (a dataset's
+  // angles repeat from scan to scan, so this is computed once per sequence).
+  std::vector<double> angles;
+  std::vector<std::uint16_t> a0, a1;  ///< the azimuth rows around the pixel
+  std::vector<float> wa;              ///< weight of a1
+  std::vector<std::int32_t> b0;       ///< the lower range bin
+  std::vector<float> wb;              ///< weight of b0 + 1
 };
 
 PowerThreshold::PowerThreshold(const PowerThresholdOptions& options) : options_(options) {
@@ -91,52 +98,66 @@ PowerThreshold::PowerThreshold(const PowerThresholdOptions& options) : options_(
 }
 
 const PowerThreshold::Geometry& PowerThreshold::geometry(const PolarScan& scan) const {
+  if (scan.azimuths < 2 || scan.bins < 2) throw std::invalid_argument("PowerThreshold: scan has fewer than 2 azimuths or bins");
+  if (scan.azimuths > 65535) throw std::invalid_argument("PowerThreshold: more than 65535 azimuths");
   if (geometry_ && geometry_->bins == scan.bins && geometry_->range_resolution == scan.range_resolution &&
-      geometry_->range_offset_bins == scan.range_offset_bins)
+      geometry_->range_offset_bins == scan.range_offset_bins && geometry_->angles == scan.angle)
     return *geometry_;
   auto g = std::make_shared<Geometry>();
   g->bins = scan.bins;
   g->range_resolution = scan.range_resolution;
   g->range_offset_bins = scan.range_offset_bins;
+  g->angles = scan.angle;
   CartesianImage& L = g->layout;
   L.resolution = options_.cartesian_resolution;
   L.size = 2 * static_cast<int>(std::ceil(options_.max_range / L.resolution));
   const double max_r = std::min(options_.max_range, scan.maxRange());
+  const AzimuthLookup lookup(scan);
+  const int last_bin = scan.bins - 1;
   for (int r = 0; r < L.size; ++r) {
     for (int c = 0; c < L.size; ++c) {
       const double x = L.x(r), y = L.y(c);
       const double range = std::hypot(x, y);
       if (range < options_.min_range || range > max_r) continue;
       g->pixel.push_back(static_cast<std::uint32_t>(r * L.size + c));
-      g->bin.push_back(static_cast<float>(range / scan.range_resolution - scan.range_offset_bins));
-      g->theta.push_back(static_cast<float>(wrap2Pi(std::atan2(y, x))));
+      const float fb = std::max(0.0f, static_cast<float>(range / scan.range_resolution - scan.range_offset_bins));
+      const float theta = static_cast<float>(wrap2Pi(std::atan2(y, x)));
+      g->bin.push_back(fb);
+      g->theta.push_back(theta);
+      int a0, a1;
+      float w;
+      lookup.find(theta, a0, a1, w);
+      int b0 = static_cast<int>(fb);
+      if (b0 >= last_bin) b0 = last_bin - 1;
+      g->a0.push_back(static_cast<std::uint16_t>(a0));
+      g->a1.push_back(static_cast<std::uint16_t>(a1));
+      g->wa.push_back(w);
+      g->b0.push_back(b0);
+      g->wb.push_back(std::min(1.0f, fb - b0));
     }
   }
   geometry_ = g;
   return *geometry_;
 }
 
+namespace {
+/// Bilinear power (0..1) of geometry pixel i.
+template <typename G>
+inline float samplePixel(const G& g, const PolarScan& scan, std::size_t i) {
+  const std::uint8_t* r0 = scan.row(g.a0[i]) + g.b0[i];
+  const std::uint8_t* r1 = scan.row(g.a1[i]) + g.b0[i];
+  const float wb = g.wb[i];
+  const float v0 = r0[0] + wb * (r0[1] - r0[0]);
+  const float v1 = r1[0] + wb * (r1[1] - r1[0]);
+  return (v0 + g.wa[i] * (v1 - v0)) * (1.0f / 255.0f);
+}
+}  // namespace
+
 CartesianImage PowerThreshold::cartesianImage(const PolarScan& scan) const {
-  if (scan.azimuths < 2 || scan.bins < 2) throw std::invalid_argument("PowerThreshold: scan has fewer than 2 azimuths or bins");
   const Geometry& g = geometry(scan);
-  const AzimuthLookup lookup(scan);
   CartesianImage img = g.layout;
   img.power.assign(static_cast<std::size_t>(img.size) * img.size, -1.0f);
-  const int last_bin = scan.bins - 1;
-  for (std::size_t i = 0; i < g.pixel.size(); ++i) {
-    int a0, a1;
-    float w;
-    lookup.find(g.theta[i], a0, a1, w);
-    const float fb = std::max(0.0f, g.bin[i]);
-    int b0 = static_cast<int>(fb);
-    if (b0 >= last_bin) b0 = last_bin - 1;
-    const float wb = std::min(1.0f, fb - b0);
-    const std::uint8_t* r0 = scan.row(a0);
-    const std::uint8_t* r1 = scan.row(a1);
-    const float v0 = r0[b0] + wb * (r0[b0 + 1] - r0[b0]);
-    const float v1 = r1[b0] + wb * (r1[b0 + 1] - r1[b0]);
-    img.power[g.pixel[i]] = (v0 + w * (v1 - v0)) * (1.0f / 255.0f);
-  }
+  for (std::size_t i = 0; i < g.pixel.size(); ++i) img.power[g.pixel[i]] = samplePixel(g, scan, i);
   return img;
 }
 
@@ -146,12 +167,12 @@ void PowerThreshold::compute(const PolarScan& scan, pcl::PointCloud<PointRadar>&
   const double sigma_theta = options_.beam_width_deg * M_PI / 180.0 / 2.355;  // FWHM → σ
   const double sigma_r = scan.range_resolution;
   if (options_.cartesian) {
-    const CartesianImage img = cartesianImage(scan);
+    // The image is never materialised: each pixel is sampled and kept if above the threshold.
     const Geometry& g = geometry(scan);
-    const AzimuthLookup lookup(scan);
+    const CartesianImage& img = g.layout;
     const double pixel_var = img.resolution * img.resolution / 12.0;
     for (std::size_t i = 0; i < g.pixel.size(); ++i) {
-      const float p = img.power[g.pixel[i]];
+      const float p = samplePixel(g, scan, i);
       if (!(p > options_.threshold)) continue;
       const int row = static_cast<int>(g.pixel[i]) / img.size, col = static_cast<int>(g.pixel[i]) % img.size;
       PointRadar pt;
@@ -161,10 +182,7 @@ void PowerThreshold::compute(const PolarScan& scan, pcl::PointCloud<PointRadar>&
       pt.power = p;
       const double range = std::hypot(img.x(row), img.y(col));
       setPolarCovariance(pt, range, g.theta[i], sigma_r, sigma_theta, pixel_var);
-      int a0, a1;
-      float w;
-      lookup.find(g.theta[i], a0, a1, w);
-      const int a = w < 0.5f ? a0 : a1;
+      const int a = g.wa[i] < 0.5f ? g.a0[i] : g.a1[i];
       pt.time_offset = static_cast<float>((scan.stamp_us[a] - scan.stamp) * 1e-6);
       out.push_back(pt);
     }

@@ -5,34 +5,24 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/radar_sim.h"
+#include "test_support.h"
 
 using namespace radar_ndt;
+using radar_ndt::test::freshTempDir;
+using radar_ndt::test::readBytes;
 namespace fs = std::filesystem;
 
 namespace {
 
 const std::string kRadiate = std::string(RADAR_NDT_SHARED_DATA) + "/radiate-tiny-foggy";
 
-std::string tempDir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("radar_ndt_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p.string();
-}
-
 void writeText(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
-}
-
-std::string readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 /// Expects `f` to throw an IoError whose message names `path` and contains `what`.
@@ -116,7 +106,7 @@ TEST(RadiatePolar, RealScansHaveTheDatasetLayout) {
 }
 
 TEST(RadiatePolar, WrongAzimuthCountIsAnError) {
-  const std::string dir = tempDir("radiate_width");
+  const std::string dir = freshTempDir("radiate_width");
   const std::string path = dir + "/000001.png";
   std::vector<std::uint8_t> px(399 * 576, 10);
   writePng(path, 399, 576, 1, px.data());
@@ -125,7 +115,7 @@ TEST(RadiatePolar, WrongAzimuthCountIsAnError) {
 }
 
 TEST(OxfordPolar, WriteReadRoundTrip) {
-  const std::string dir = tempDir("oxford_rt");
+  const std::string dir = freshTempDir("oxford_rt");
   const std::string path = dir + "/1547120000000000.png";
   const PolarScan s = smallOxfordScan();
   writeOxfordPolarPng(path, s);
@@ -148,7 +138,7 @@ TEST(OxfordPolar, WriteReadRoundTrip) {
 }
 
 TEST(OxfordPolar, MalformedFilesGiveClearErrors) {
-  const std::string dir = tempDir("oxford_bad");
+  const std::string dir = freshTempDir("oxford_bad");
   const std::string good = dir + "/1547120000000000.png";
   writeOxfordPolarPng(good, smallOxfordScan());
   const std::string bytes = readBytes(good);
@@ -191,7 +181,7 @@ TEST(OxfordPolar, MalformedFilesGiveClearErrors) {
 }
 
 TEST(OxfordSequenceFiles, TimestampsAndOdometryCsvErrors) {
-  const std::string dir = tempDir("oxford_csv");
+  const std::string dir = freshTempDir("oxford_csv");
   const std::string ts = dir + "/radar.timestamps";
   writeText(ts, "1547120000000000 1\n1547120000250000 1\n1547120000200000 1\n");
   expectIoError([&] { readOxfordTimestamps(ts); }, ts, "out of order");
@@ -224,7 +214,7 @@ TEST(OxfordSequenceFiles, TimestampsAndOdometryCsvErrors) {
 
 TEST(OxfordSequence, SimulatedSequenceRoundTrip) {
   // Simulate → read: every scan's metadata and the ground truth match what was written.
-  const std::string dir = tempDir("oxford_seq");
+  const std::string dir = freshTempDir("oxford_seq");
   const sim::SimTrajectory ego = sim::builtinDrive(30.0);
   sim::WorldOptions world;
   world.seed = 7;

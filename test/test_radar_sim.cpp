@@ -7,28 +7,18 @@
 #include <map>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/power_threshold.h"
 #include "radar_ndt/radar_sim.h"
+#include "test_support.h"
 
 using namespace radar_ndt;
+using radar_ndt::test::freshTempDir;
+using radar_ndt::test::readBytes;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string tempDir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("radar_ndt_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p.string();
-}
-
-std::string readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 /// Straight drive along +x at `speed` m/s for 10 s.
 sim::SimTrajectory straight(double speed) {
@@ -110,7 +100,7 @@ TEST(RadarSim, DeterministicForASeed) {
   EXPECT_NE(w3.segments().size() + 1000 * w3.circles().size(), w1.segments().size() + 1000 * w1.circles().size());
 
   // Whole sequences: byte-identical files.
-  const std::string d1 = tempDir("sim_det1"), d2 = tempDir("sim_det2");
+  const std::string d1 = freshTempDir("sim_det1"), d2 = freshTempDir("sim_det2");
   sim::SequenceOptions seq;
   seq.start = 40;
   seq.frames = 3;
@@ -215,7 +205,7 @@ TEST(RadarSim, RealismAgainstRadiate) {
 }
 
 TEST(RadarSim, AutomotiveDatarootReadsBack) {
-  const std::string dir = tempDir("sim_auto");
+  const std::string dir = freshTempDir("sim_auto");
   const sim::SimTrajectory ego = sim::builtinDrive(40.0);
   sim::WorldOptions wo;
   wo.seed = 11;

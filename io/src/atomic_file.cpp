@@ -5,10 +5,22 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 
 #include "radar_ndt/io/io_error.h"
+#include "read_file.h"
 
 namespace radar_ndt {
+
+std::string detail::readWholeFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path, "cannot open file for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw IoError(path, "read error");
+  return ss.str();
+}
 
 void writeFileAtomically(const std::string& path, const std::string& content) {
   const std::string tmp = path + ".tmp." + std::to_string(static_cast<long>(::getpid()));

@@ -6,13 +6,13 @@
 #include <csetjmp>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <limits>
 #include <map>
 #include <sstream>
 
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/io_error.h"
+#include "read_file.h"
 
 namespace radar_ndt {
 namespace {
@@ -28,14 +28,6 @@ double wrapPi(double a) {
   if (a > M_PI) a -= kTwoPi;
   if (a <= -M_PI) a += kTwoPi;
   return a;
-}
-
-std::string readWholeFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path, "cannot open file");
-  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw IoError(path, "read error");
-  return data;
 }
 
 GrayImage decodeGrayPng(const std::string& path, const std::string& data) {
@@ -187,7 +179,7 @@ double PolarConvention::toSensorAzimuth(double vehicle_angle) const {
   return a;
 }
 
-GrayImage readGrayPng(const std::string& path) { return decodeGrayPng(path, readWholeFile(path)); }
+GrayImage readGrayPng(const std::string& path) { return decodeGrayPng(path, detail::readWholeFile(path)); }
 
 void writePng(const std::string& path, int width, int height, int channels, const std::uint8_t* pixels,
               int compression_level) {

@@ -12,18 +12,11 @@
 
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/atomic_file.h"
+#include "read_file.h"
 
 namespace radar_ndt {
+using detail::readWholeFile;
 namespace {
-
-std::string readWholeFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path, "cannot open file for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw IoError(path, "read error");
-  return ss.str();
-}
 
 /// Splits a line into numbers; every token must parse completely as a finite double.
 std::vector<double> parseNumbers(const std::string& path, std::size_t line_no, const std::string& line) {

@@ -79,7 +79,6 @@ struct PowerThreshold::Geometry {
   double range_resolution = 0.0, range_offset_bins = 0.0;
   CartesianImage layout;
   std::vector<std::uint32_t> pixel;  ///< pixels inside the ring
-  std::vector<float> bin;            ///< fractional range bin of each
   std::vector<float> theta;          ///< its angle in [0, 2π)
   // Bilinear sampling of each pixel, valid for scans with these azimuth angles (a dataset's
   // angles repeat from scan to scan, so this is computed once per sequence).
@@ -122,7 +121,6 @@ const PowerThreshold::Geometry& PowerThreshold::geometry(const PolarScan& scan) 
       g->pixel.push_back(static_cast<std::uint32_t>(r * L.size + c));
       const float fb = std::max(0.0f, static_cast<float>(range / scan.range_resolution - scan.range_offset_bins));
       const float theta = static_cast<float>(wrap2Pi(std::atan2(y, x)));
-      g->bin.push_back(fb);
       g->theta.push_back(theta);
       int a0, a1;
       float w;

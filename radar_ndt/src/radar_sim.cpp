@@ -16,6 +16,7 @@
 
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/io_error.h"
+#include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/radar_sim.h"
 #include "sim_random.h"
 
@@ -341,14 +342,11 @@ constexpr std::array<Mounting, 5> kMountings{{{"RADAR_FRONT", 3.412, 0.0, 0.5, 0
                                               {"RADAR_BACK_LEFT", -0.562, 0.628, 0.53, 174.41},
                                               {"RADAR_BACK_RIGHT", -0.562, -0.618, 0.53, -176.11}}};
 
-/// ARS408 state index whose standard deviation is nearest (in log) to `sigma`.
+/// ARS408 state index whose standard deviation (the reader's table) is nearest, in log, to `sigma`.
 int rmsIndex(double sigma) {
-  static constexpr std::array<double, 31> kTable{0.005, 0.006, 0.008, 0.011, 0.014, 0.018, 0.023, 0.029, 0.038, 0.049, 0.063,
-                                                 0.081, 0.105, 0.135, 0.174, 0.224, 0.288, 0.371, 0.478, 0.616, 0.794, 1.023,
-                                                 1.317, 1.697, 2.187, 2.817, 3.630, 4.676, 6.025, 7.762, 10.0};
   int best = 0;
-  for (int i = 1; i < static_cast<int>(kTable.size()); ++i)
-    if (std::abs(std::log(kTable[i] / sigma)) < std::abs(std::log(kTable[best] / sigma))) best = i;
+  for (int i = 1; std::isfinite(ars408RmsValue(i)); ++i)
+    if (std::abs(std::log(ars408RmsValue(i) / sigma)) < std::abs(std::log(ars408RmsValue(best) / sigma))) best = i;
   return best;
 }
 

@@ -41,6 +41,14 @@ SimTrajectory::SimTrajectory(std::vector<double> stamps, std::vector<Pose2> pose
   arc_.assign(poses_.size(), 0.0);
   for (std::size_t k = 1; k < poses_.size(); ++k)
     arc_[k] = arc_[k - 1] + (poses_[k].head<2>() - poses_[k - 1].head<2>()).norm();
+  // Direction of travel at each end: the nearest segment that moves (else the pose's heading).
+  auto direction = [&](std::size_t j) { return std::atan2(poses_[j + 1].y() - poses_[j].y(), poses_[j + 1].x() - poses_[j].x()); };
+  start_heading_ = poses_.front().z();
+  end_heading_ = poses_.back().z();
+  for (std::size_t j = 0; j + 1 < poses_.size(); ++j)
+    if (arc_[j + 1] - arc_[j] > 0.05) { start_heading_ = direction(j); break; }
+  for (std::size_t j = poses_.size() - 1; j > 0; --j)
+    if (arc_[j] - arc_[j - 1] > 0.05) { end_heading_ = direction(j - 1); break; }
 }
 
 std::size_t SimTrajectory::segment(double t) const {
@@ -94,16 +102,9 @@ Pose2 SimTrajectory::atArc(double s) const {
   const Pose2& b = poses_[k + 1];
   double heading = len > 0.05 ? std::atan2(b.y() - a.y(), b.x() - a.x()) : a.z();
   if (extra != 0.0) {
-    // Direction of travel at that end: the nearest segment that moves.
-    if (extra < 0.0) {
-      for (std::size_t j = 0; j + 1 < poses_.size(); ++j)
-        if (arc_[j + 1] - arc_[j] > 0.05) { heading = std::atan2(poses_[j + 1].y() - poses_[j].y(), poses_[j + 1].x() - poses_[j].x()); break; }
-    } else {
-      for (std::size_t j = poses_.size() - 1; j > 0; --j)
-        if (arc_[j] - arc_[j - 1] > 0.05) { heading = std::atan2(poses_[j].y() - poses_[j - 1].y(), poses_[j].x() - poses_[j - 1].x()); break; }
-    }
-    const Pose2 end = extra < 0.0 ? poses_.front() : poses_.back();
-    return Pose2(end.x() + extra * std::cos(heading), end.y() + extra * std::sin(heading), heading);
+    const Pose2& end = extra < 0.0 ? poses_.front() : poses_.back();
+    const double h = extra < 0.0 ? start_heading_ : end_heading_;
+    return Pose2(end.x() + extra * std::cos(h), end.y() + extra * std::sin(h), h);
   }
   return Pose2(a.x() + u * (b.x() - a.x()), a.y() + u * (b.y() - a.y()), heading);
 }

@@ -50,6 +50,7 @@ class SimTrajectory {
   std::vector<double> stamps_;
   std::vector<Pose2> poses_;
   std::vector<double> arc_;  ///< cumulative path length at each pose
+  double start_heading_ = 0.0, end_heading_ = 0.0;  ///< direction of travel at the ends (for atArc beyond them)
 };
 
 /// A built-in city drive for demos and tests (no file needed): pulls away, cruises at up to

@@ -1,11 +1,15 @@
 // radar_odometry: radar odometry over a dataset sequence. --format nuscenes: the paper's automotive
 // pipeline (Doppler ego-velocity, probabilistic submap of N cycles, weighted NDT) on a nuScenes-
-// layout dataroot; --table reproduces the paper's nuScenes table on it.
+// layout dataroot; --table reproduces the paper's nuScenes table on it. --format oxford|radiate:
+// the scanning pipeline (power threshold, scan-to-scan weighted NDT with the paper's failure
+// handling, motion compensation) on a scan sequence directory.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
+#include <optional>
 #include <sstream>
 #include <unistd.h>
 
@@ -19,6 +23,8 @@
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/scanning_run.h"
+#include "radar_ndt/top_view_map.h"
 
 using namespace radar_ndt;
 namespace po = boost::program_options;
@@ -66,38 +72,138 @@ json summaryJson(const AutomotiveRunResult& r) {
   return j;
 }
 
+/// What the scanning mode takes from the command line.
+struct ScanningArgs {
+  std::string sequence_dir, out_path, out_format, steps_path, plot_path, map_path, metric_text;
+  bool eval = false, json_out = false, progress = false;
+};
+
+json scanningSummaryJson(const ScanningRunResult& r, const ScanningRunOptions& o) {
+  const auto& c = r.counters;
+  json j;
+  j["sequence"] = r.sequence;
+  j["format"] = toString(r.format);
+  j["method"] = toString(o.method);
+  j["scans"] = c.cycles;
+  j["scan_period_s"] = r.period_s;
+  j["matched"] = c.matched;
+  j["retried"] = c.retried;
+  j["fallbacks"] = c.fallbacks;
+  j["fallback_rate"] = c.cycles ? static_cast<double>(c.fallbacks) / static_cast<double>(c.cycles) : 0.0;
+  j["power_shift_halved"] = c.shift_halved;
+  j["slow_grid"] = c.slow;
+  j["attempts_not_converged"] = c.not_converged;
+  j["attempts_rejected_by_motion_prior"] = c.rejected;
+  j["dead_reckoned"] = c.dead_reckoned;
+  j["skipped"] = c.skipped;
+  j["unreadable_files"] = r.problems.size();
+  j["points_per_scan_median"] = r.median_points;
+  j["ms_per_scan_median"] = {{"decode", r.median_ms.read_ms}, {"front_end", r.median_ms.front_end_ms},
+                             {"match", r.median_ms.match_ms}, {"total", r.median_total_ms}};
+  j["scans_per_second"] = r.scans_per_second;
+  j["real_time_factor"] = r.period_s > 0 ? r.scans_per_second * r.period_s : 0.0;
+  return j;
+}
+
+int runScanningMode(const ScanningRunOptions& options, ScanFormat format, const ScanningArgs& a) {
+  const std::vector<Metric> metrics = parseMetrics(a.metric_text);
+  const TrajectoryFormat out_format = parseTrajectoryFormat(a.out_format);
+  const ScanningSequence sequence(a.sequence_dir, format, options.sequence);
+  if (a.eval && !sequence.hasGroundTruth())
+    throw std::invalid_argument("--eval: " + a.sequence_dir + " has no ground truth (oxford: gt/radar_odometry.csv; radiate has none)");
+  std::unique_ptr<TopViewMap> map;
+  if (!a.map_path.empty()) map = std::make_unique<TopViewMap>(0.2);
+  const ScanCallback on_scan = map ? ScanCallback([&](std::size_t, const OdometryStep& step, const pcl::PointCloud<PointRadar>& cloud) {
+    if (step.status != StepStatus::Skipped) map->add(cloud, step.pose);
+  })
+                                   : ScanCallback();
+  const ScanningRunResult r = runScanningOdometry(sequence, options, Progress{a.progress, sequence.name()}, on_scan);
+  for (const auto& p : r.problems) pcl::console::print_warn("%s: %s\n", sequence.name().c_str(), p.c_str());
+  if (!a.out_path.empty()) writeTrajectory(a.out_path, r.estimate, out_format);
+  if (map) map->writePng(a.map_path);
+  if (!a.steps_path.empty()) {
+    std::ostringstream csv;
+    csv << "timestamp_us,status,attempts,grid,power_shift,compensation_rounds,slow,dx,dy,dyaw,guess_dx,guess_dy,guess_dyaw,"
+           "source_points,target_points,match_ms\n";
+    for (const OdometryStep& s : r.steps)
+      csv << s.timestamp_us << ',' << toString(s.status) << ',' << s.attempts << ',' << s.grid << ',' << s.power_shift << ','
+          << s.compensation_rounds << ',' << s.slow << ',' << s.motion.x() << ',' << s.motion.y() << ',' << s.motion.z() << ','
+          << s.doppler_motion.x() << ',' << s.doppler_motion.y() << ',' << s.doppler_motion.z() << ',' << s.source_points << ','
+          << s.target_points << ',' << s.match_ms << '\n';
+    writeFileAtomically(a.steps_path, csv.str());
+  }
+  json j = scanningSummaryJson(r, options);
+  std::optional<EvaluationReport> report;
+  if (a.eval) {
+    const PosePairs pairs = associate(r.ground_truth, r.estimate);
+    report = evaluate(pairs, metrics);
+    j["metrics"] = metricsOf(*report);
+    if (!a.plot_path.empty()) writeEvaluationSvg(a.plot_path, pairs, *report, sequence.name() + " (" + toString(options.method) + ")");
+  }
+  if (a.json_out) {
+    std::cout << j.dump(2) << std::endl;
+    return 0;
+  }
+  const auto& c = r.counters;
+  std::printf("%s: %zu scans (%s, %.2f Hz), %.0f points/scan; matched %zu, retried %zu, fallbacks %zu (%.1f %%), s halved %zu, "
+              "slow grid %zu, %zu unreadable files\n",
+              sequence.name().c_str(), c.cycles, toString(format), r.period_s > 0 ? 1.0 / r.period_s : 0.0, r.median_points, c.matched,
+              c.retried, c.fallbacks, c.cycles ? 100.0 * static_cast<double>(c.fallbacks) / static_cast<double>(c.cycles) : 0.0,
+              c.shift_halved, c.slow, r.problems.size());
+  std::printf("  ms per scan (median, one core): decode %.2f, front-end %.2f, match %.2f, total %.2f; end to end %.1f scans/s "
+              "(decode on a second thread), %.0fx real time\n",
+              r.median_ms.read_ms, r.median_ms.front_end_ms, r.median_ms.match_ms, r.median_total_ms, r.scans_per_second,
+              j["real_time_factor"].get<double>());
+  if (report) std::cout << formatTable(*report);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string format, dataroot, version, scene_name, method_name, out_path, out_format_text, metric_text, plot_path, covariance,
       reference_channel, steps_path;
-  std::size_t submap = 3, max_cycles = 0;
-  double grid = 3.0, max_range = 150.0, doppler_thr = 0.25;
+  std::size_t submap = 3, max_cycles = 0, start = 0;
+  double grid = 3.0, max_range = 150.0, doppler_thr = 0.25, bin_size = 0.0438, power_shift = 0.333, threshold = 0.333,
+         pixel = 0.125;
+  std::string sequence_dir, map_path, points_path = "cartesian";
+  bool no_motion_comp = false, no_prefetch = false;
   bool no_gate = false, no_comp = false, keep_moving = false, eval = false, json_out = false, quiet = false, table = false;
   po::options_description opts("Options");
   // clang-format off
   opts.add_options()
     ("help,h", "print this help and exit")
-    ("format", po::value(&format)->required(), "dataset layout: nuscenes")
-    ("dataroot", po::value(&dataroot)->required(), "nuScenes-layout dataroot (holds v1.0-*/, samples/, sweeps/)")
+    ("format", po::value(&format)->required(), "dataset layout: nuscenes (automotive) | oxford | radiate (scanning)")
+    ("dataroot", po::value(&dataroot), "nuscenes: the dataroot (holds v1.0-*/, samples/, sweeps/)")
+    ("sequence", po::value(&sequence_dir), "oxford: a directory with radar.timestamps, radar/<stamp>.png and optionally gt/radar_odometry.csv; "
+                                            "radiate: one with Navtech_Polar.txt and Navtech_Polar/<frame>.png")
     ("version", po::value(&version)->default_value(""), "table folder under dataroot (default: the one holding sensor.json)")
     ("scene", po::value(&scene_name)->default_value("all"), "scene name, or 'all' (each scene, then the mean)")
     ("method", po::value(&method_name)->default_value("pw-ndt"), "pw-ndt (ours) | pcl-ndt | pcl-icp | doppler (Kellner's ego-velocity integration) | rapp-ndt (Doppler-weighted grid NDT)")
     ("submap", po::value(&submap)->default_value(3), "N: radar cycles per submap")
-    ("grid", po::value(&grid)->default_value(3.0), "NDT grid size g (m); pcl-icp: max correspondence distance")
+    ("grid", po::value(&grid), "NDT grid size g (m), default 3.0 (nuscenes) or 3.75 (scanning); pcl-icp: max correspondence distance")
     ("covariance", po::value(&covariance)->default_value("polar"), "point covariance: polar (ARS408 range/azimuth spec) | rms (reported x_rms/y_rms)")
     ("reference-channel", po::value(&reference_channel)->default_value(""), "radar channel that clocks the cycles (default: the forward-facing one)")
     ("doppler-threshold", po::value(&doppler_thr)->default_value(0.25), "ego-velocity RANSAC inlier and moving-detection threshold on |Doppler − predicted| (m/s)")
     ("no-gate", po::bool_switch(&no_gate), "accept every converged match: no motion-prior or Doppler chi-square check (ablation)")
     ("no-time-compensation", po::bool_switch(&no_comp), "do not move each radar's sweep to the reference time (ablation)")
     ("keep-moving", po::bool_switch(&keep_moving), "do not remove detections that disagree with the Doppler ego-velocity (ablation)")
-    ("max-range", po::value(&max_range)->default_value(150.0), "drop detections beyond this range (m)")
-    ("max-cycles", po::value(&max_cycles)->default_value(0), "stop after this many cycles per scene (0: all)")
+    ("max-cycles", po::value(&max_cycles)->default_value(0), "stop after this many cycles per scene, or scans (0: all)")
+    ("start", po::value(&start)->default_value(0), "scanning: first scan used")
+    ("threshold", po::value(&threshold)->default_value(0.333), "scanning: power threshold (0..1) of the front-end")
+    ("power-shift", po::value(&power_shift)->default_value(0.333), "scanning, pw-ndt: power shift s of the weights max(p - s, 0); 0 turns it off")
+    ("points", po::value(&points_path)->default_value("cartesian"), "scanning: cartesian (the paper's 0.125 m/pixel image) | polar (one point per cell)")
+    ("pixel", po::value(&pixel)->default_value(0.125), "scanning, cartesian: metres per pixel")
+    ("max-range", po::value(&max_range), "nuscenes: drop detections beyond this range (m), default 150; scanning: front-end range limit, default 62.5")
+    ("bin-size", po::value(&bin_size)->default_value(0.0438), "oxford: range bin size (m); the dataset states 0.0438, its SDK uses 0.0432")
+    ("no-motion-compensation", po::bool_switch(&no_motion_comp), "scanning: do not move points to the scan's reference time (ablation)")
+    ("no-prefetch", po::bool_switch(&no_prefetch), "scanning: decode the next scan on the main thread (timing comparison)")
+    ("map", po::value(&map_path), "scanning: write a top-view PNG of all scans at their estimated poses (0.2 m/pixel)")
     ("out", po::value(&out_path), "write the trajectory here (--scene all: one file per scene, NAME inserted before the extension)")
     ("out-format", po::value(&out_format_text)->default_value("tum"), "kitti | tum (TUM keeps the cycle timestamps)")
-    ("steps", po::value(&steps_path), "write one CSV line per cycle: status, attempts, grid, chi2, motion, Doppler motion, points")
-    ("eval", po::bool_switch(&eval), "compare with the scene's ego poses")
-    ("metric", po::value(&metric_text)->default_value("1m"), "with --eval: kitti|1m|frame|ate|all, or a list")
+    ("steps", po::value(&steps_path), "write one CSV line per cycle or scan: status, attempts, grid, motion, initial guess, points")
+    ("eval", po::bool_switch(&eval), "compare with the scene's ego poses (oxford: gt/radar_odometry.csv)")
+    ("metric", po::value(&metric_text), "with --eval: kitti|1m|frame|ate|all, or a list; default 1m (nuscenes), kitti,frame (scanning)")
     ("json", po::bool_switch(&json_out), "print one JSON object (summary, and with --eval a \"metrics\" entry shaped as radar_eval's)")
     ("plot", po::value(&plot_path), "with --eval: SVG of estimate vs ground truth (--scene all: one per scene)")
     ("table", po::bool_switch(&table), "reproduce the paper's nuScenes table on every scene: N = 1, 3, 5, 10 for pcl-icp and pw-ndt, N = 1 for doppler and rapp-ndt; 1m metric, mean over scenes")
@@ -107,15 +213,67 @@ int main(int argc, char** argv) {
       "Usage: radar_odometry --format nuscenes --dataroot DIR [--scene NAME|all] [--method pw-ndt|pcl-ndt|pcl-icp|doppler|rapp-ndt]\n"
       "                      [--submap N] [--grid G] [--out traj.txt] [--out-format kitti|tum] [--eval] [--metric 1m|kitti|frame|all]\n"
       "                      [--json] [--plot out.svg] [--table]\n"
-      "One pose per radar cycle (one sweep of every radar, clocked by the reference radar), the vehicle\n"
-      "frame at the reference sweep's timestamp. Unreadable sweeps are reported and left out of their cycle.";
+      "       radar_odometry --format oxford|radiate --sequence DIR [--method pw-ndt|pcl-ndt|pcl-icp] [--grid G]\n"
+      "                      [--threshold T] [--power-shift S] [--points cartesian|polar] [--no-motion-compensation]\n"
+      "                      [--out traj.txt] [--eval] [--metric kitti|frame|all] [--json] [--plot out.svg] [--map top.png]\n"
+      "nuscenes: one pose per radar cycle (one sweep of every radar, clocked by the reference radar), the\n"
+      "vehicle frame at the reference sweep's timestamp. Unreadable sweeps are reported and left out of their cycle.\n"
+      "oxford|radiate: one pose per scan, the vehicle at the scan's timestamp (the first azimuth's); each scan\n"
+      "matched to the previous one from a constant-velocity guess, failures retried with the grid enlarged by\n"
+      "2.5 m, then with s halved; below 1.5 km/h the grid is 1.5 m. Unreadable scans are reported and skipped.";
   po::variables_map vm;
   const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
   if (rc >= 0) return rc;
 
   return apps::runGuarded("radar_odometry", [&]() {
-    if (format != "nuscenes")
-      throw std::invalid_argument("--format " + format + " is not supported (nuscenes; scanning formats come with the scanning pipeline)");
+    const bool progress_on = !quiet && isatty(STDERR_FILENO);
+    if (format == "oxford" || format == "radiate") {
+      if (sequence_dir.empty()) throw std::invalid_argument("--format " + format + " needs --sequence DIR");
+      ScanningRunOptions o;
+      o.method = parseMethod(method_name);
+      if (o.method == Method::Doppler || o.method == Method::RappNdt)
+        throw std::invalid_argument("--method " + method_name + " needs Doppler, which scanning radars do not measure (pw-ndt, pcl-ndt, pcl-icp)");
+      auto& sc = o.odometry.scanning;
+      if (vm.count("grid")) {
+        if (!(grid > 0)) throw std::invalid_argument("--grid must be > 0");
+        sc.grid = grid;
+      }
+      if (!(power_shift >= 0 && power_shift < 1)) throw std::invalid_argument("--power-shift must be in [0, 1)");
+      sc.power_shift = static_cast<float>(power_shift);
+      sc.motion_compensation = !no_motion_comp;
+      if (no_gate) sc.max_acceleration = sc.max_yaw_acceleration = std::numeric_limits<double>::infinity();
+      if (!(threshold >= 0 && threshold < 1)) throw std::invalid_argument("--threshold must be in [0, 1)");
+      o.front_end.threshold = static_cast<float>(threshold);
+      if (points_path != "cartesian" && points_path != "polar") throw std::invalid_argument("--points must be cartesian or polar");
+      o.front_end.cartesian = points_path == "cartesian";
+      if (!(pixel > 0)) throw std::invalid_argument("--pixel must be > 0");
+      o.front_end.cartesian_resolution = pixel;
+      if (vm.count("max-range")) {
+        if (!(max_range > o.front_end.min_range)) throw std::invalid_argument("--max-range must exceed the 2 m minimum range");
+        o.front_end.max_range = max_range;
+      }
+      if (!(bin_size > 0)) throw std::invalid_argument("--bin-size must be > 0");
+      o.sequence.oxford.convention.range_resolution = bin_size;
+      o.start = start;
+      o.max_scans = max_cycles;
+      o.prefetch = !no_prefetch;
+      ScanningArgs a;
+      a.sequence_dir = sequence_dir;
+      a.out_path = out_path;
+      a.out_format = out_format_text;
+      a.steps_path = steps_path;
+      a.plot_path = plot_path;
+      a.map_path = map_path;
+      a.metric_text = vm.count("metric") ? metric_text : "kitti,frame";
+      a.eval = eval;
+      a.json_out = json_out;
+      a.progress = progress_on;
+      return runScanningMode(o, parseScanFormat(format), a);
+    }
+    if (format != "nuscenes") throw std::invalid_argument("--format " + format + " is not supported (nuscenes, oxford, radiate)");
+    if (dataroot.empty()) throw std::invalid_argument("--format nuscenes needs --dataroot DIR");
+    if (!vm.count("metric")) metric_text = "1m";
+    if (!vm.count("max-range")) max_range = 150.0;
     if (submap == 0) throw std::invalid_argument("--submap must be >= 1");
     if (!(grid > 0)) throw std::invalid_argument("--grid must be > 0");
     const std::vector<Metric> metrics = parseMetrics(metric_text);
@@ -140,7 +298,6 @@ int main(int argc, char** argv) {
       for (const auto& s : dataset.scenes()) scenes.push_back(&s);
     else
       scenes.push_back(&dataset.scene(scene_name));
-    const bool progress_on = !quiet && isatty(STDERR_FILENO);
     auto fileFor = [&](const std::string& path, const std::string& scene) {
       if (scenes.size() == 1) return path;
       const auto dot = path.find_last_of('.');

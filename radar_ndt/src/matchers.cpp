@@ -71,6 +71,20 @@ void setMatcherGrid(RadarRegistration& matcher, double grid) {
     matcher.setMaxCorrespondenceDistance(grid);
 }
 
+double matchScore(RadarRegistration& matcher) {
+  if (auto* ours = dynamic_cast<WeightedNDT2D<PointRadar, PointRadar>*>(&matcher)) return ours->getNdtScore();
+  if (auto* ndt = dynamic_cast<pcl::NormalDistributionsTransform<PointRadar, PointRadar>*>(&matcher))
+    return ndt->getTransformationProbability();
+  return -matcher.getFitnessScore();
+}
+
+bool setMatcherPowerShift(RadarRegistration& matcher, float shift) {
+  auto* ours = dynamic_cast<WeightedNDT2D<PointRadar, PointRadar>*>(&matcher);
+  if (!ours) return false;
+  ours->setPowerShift(shift);
+  return true;
+}
+
 }  // namespace radar_ndt
 
 // PCL's matchers for PointRadar, compiled here once.

@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 #include <Eigen/LU>
 
@@ -26,7 +28,46 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 Odometry::Odometry(const OdometryOptions& options, RadarRegistration::Ptr matcher)
-    : options_(options), matcher_(std::move(matcher)), submap_(options.submap_size) {}
+    : options_(options), matcher_(std::move(matcher)), submap_(options.submap_size),
+      compensated_(new pcl::PointCloud<PointRadar>) {}
+
+void compensateMotion(const pcl::PointCloud<PointRadar>& in, const Pose2& velocity, pcl::PointCloud<PointRadar>& out) {
+  if (&out != &in) out = in;
+  if (out.empty()) return;
+  // The pose at τ, tabulated every 0.1 ms over the scan's span of time offsets (a Cartesian scan
+  // has one offset per azimuth, a few hundred distinct values) instead of a sin/cos per point.
+  float t_min = std::numeric_limits<float>::infinity(), t_max = -t_min;
+  for (const auto& p : out)
+    if (std::isfinite(p.time_offset)) {
+      t_min = std::min(t_min, p.time_offset);
+      t_max = std::max(t_max, p.time_offset);
+    }
+  if (!(t_max >= t_min)) return;  // no finite offsets
+  constexpr double kStep = 1e-4;
+  const std::size_t n = static_cast<std::size_t>(std::ceil((static_cast<double>(t_max) - t_min) / kStep)) + 1;
+  if (n > 100000) throw std::invalid_argument("compensateMotion: time offsets span more than 10 s");
+  struct Entry {
+    double c, s, tx, ty;
+  };
+  std::vector<Entry> table(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Pose2 T = integrateVelocity(velocity, t_min + kStep * static_cast<double>(i));
+    table[i] = {std::cos(T.z()), std::sin(T.z()), T.x(), T.y()};
+  }
+  for (auto& p : out) {
+    if (!std::isfinite(p.time_offset)) continue;
+    const Entry& e = table[static_cast<std::size_t>(std::lround((p.time_offset - t_min) / kStep))];
+    const double c = e.c, s = e.s, x = p.x, y = p.y;
+    p.x = static_cast<float>(c * x - s * y + e.tx);
+    p.y = static_cast<float>(s * x + c * y + e.ty);
+    // Σ' = R Σ Rᵀ
+    const double xx = p.cov_xx, xy = p.cov_xy, yy = p.cov_yy;
+    p.cov_xx = static_cast<float>(c * c * xx - 2 * c * s * xy + s * s * yy);
+    p.cov_xy = static_cast<float>(c * s * (xx - yy) + (c * c - s * s) * xy);
+    p.cov_yy = static_cast<float>(s * s * xx + 2 * c * s * xy + c * c * yy);
+    p.time_offset = 0.f;
+  }
+}
 
 Trajectory Odometry::trajectory() const {
   Trajectory t;
@@ -185,6 +226,190 @@ const OdometryStep& Odometry::add(const ProcessedCycle& cycle) {
   last_accepted_motion_ = motion;
   last_dt_ = dt;
   target_ = source;
+  steps_.push_back(step);
+  return steps_.back();
+}
+
+bool Odometry::acceptScanMotion(const Pose2& motion, double dt, double mid_time) const {
+  const auto& o = options_.scanning;
+  if (!have_trusted_velocity_) return true;  // no accepted match yet: nothing to check against
+  // The velocity of this interval (at its middle) differs from the last accepted match's (at its
+  // middle) by at most a·Δt; over dt that is a displacement difference of a·Δt·dt, plus the noise
+  // of two matches. Δt grows across fallbacks, so one bad estimate cannot lock the gate.
+  const double elapsed = std::max(dt, mid_time - trusted_mid_time_);
+  const Pose2 predicted = integrateVelocity(trusted_velocity_, dt);
+  const double bound_xy = o.max_acceleration * elapsed * dt + 3.0 * std::sqrt(2.0) * o.match_sigma_xy;
+  const double bound_yaw = o.max_yaw_acceleration * elapsed * dt + 3.0 * std::sqrt(2.0) * o.match_sigma_yaw;
+  return (motion.head<2>() - predicted.head<2>()).norm() <= bound_xy && std::abs(normalizeAngle(motion.z() - predicted.z())) <= bound_yaw;
+}
+
+bool Odometry::matchScan(const pcl::PointCloud<PointRadar>& raw, const Pose2& guess, double dt, Pose2* estimate, int* rounds) {
+  const auto& o = options_.scanning;
+  const bool compensate = o.motion_compensation && dt > 0;
+  const int max_rounds = compensate ? std::max(1, o.max_compensation_rounds) : 1;
+  Pose2 est = guess;
+  Eigen::Vector3d v = compensate ? velocityOf(guess, dt) : Eigen::Vector3d::Zero();
+  pcl::PointCloud<PointRadar> aligned;
+  if (target_replaced_) {  // a previous attempt's re-compensated target: back to this step's own
+    matcher_->setInputTarget(target_);
+    target_replaced_ = false;
+  }
+  for (int r = 0; r < max_rounds; ++r) {
+    if (compensate) {
+      // Round 0: both scans at the constant-velocity estimate (the target already is). Later
+      // rounds: both at the velocity this match found, which is the target sweep's own velocity
+      // and the best estimate for the source's.
+      if (r > 0 && previous_raw_) {
+        pcl::PointCloud<PointRadar>::Ptr target(new pcl::PointCloud<PointRadar>);
+        compensateMotion(*previous_raw_, v, *target);
+        matcher_->setInputTarget(target);
+        target_replaced_ = true;
+      }
+      compensateMotion(raw, v, *compensated_);
+      matcher_->setInputSource(compensated_);
+      ++*rounds;
+    } else {
+      // The caller's cloud is const; the matcher only reads its source.
+      matcher_->setInputSource(pcl::PointCloud<PointRadar>::ConstPtr(&raw, [](const pcl::PointCloud<PointRadar>*) {}));
+    }
+    matcher_->align(aligned, toMatrix4<float>(est));
+    if (!matcher_->hasConverged()) return false;
+    est = toPose2(matcher_->getFinalTransformation());
+    if (!est.allFinite()) return false;
+    if (!compensate) break;
+    const Eigen::Vector3d v_new = velocityOf(est, dt);
+    // Another round only when the velocity moved by more than the tolerance (yaw rate scaled by
+    // 10 m, a typical point range: the displacement it causes there). Smaller changes are within
+    // a single match's noise and chasing them adds nothing.
+    const bool settled = (v_new.head<2>() - v.head<2>()).norm() < o.compensation_tolerance &&
+                         10.0 * std::abs(v_new.z() - v.z()) < o.compensation_tolerance;
+    v = v_new;
+    if (settled) break;
+  }
+  *estimate = est;
+  return true;
+}
+
+const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
+  if (!scan.cloud) throw std::invalid_argument("Odometry::addScan: the scan has no cloud");
+  const auto& o = options_.scanning;
+  OdometryStep step;
+  step.timestamp_us = scan.timestamp_us;
+  ++counters_.cycles;
+  const OdometryStep* prev = nullptr;
+  for (auto it = steps_.rbegin(); it != steps_.rend(); ++it)
+    if (it->status != StepStatus::Skipped) {
+      prev = &*it;
+      break;
+    }
+  if (prev && scan.timestamp_us <= prev->timestamp_us) {
+    step.status = StepStatus::Skipped;
+    step.pose = prev->pose;
+    ++counters_.skipped;
+    steps_.push_back(step);
+    return steps_.back();
+  }
+  const pcl::PointCloud<PointRadar>& raw = *scan.cloud;
+  step.source_points = raw.size();
+  if (!prev) {
+    // The first scan: identity. Its velocity is unknown, so it is kept uncompensated (its time
+    // offsets are short against any later correction) and becomes the first target.
+    step.status = StepStatus::First;
+    target_.reset(new pcl::PointCloud<PointRadar>(raw));
+    for (auto& p : *target_) p.time_offset = 0.f;
+    steps_.push_back(step);
+    return steps_.back();
+  }
+
+  const double dt = 1e-6 * static_cast<double>(scan.timestamp_us - prev->timestamp_us);
+  const Eigen::Vector3d velocity = last_dt_ > 0 ? velocityOf(last_accepted_motion_, last_dt_) : Eigen::Vector3d::Zero();
+  Pose2 guess = integrateVelocity(velocity, dt);  // constant velocity
+  const double mid_time = 1e-6 * static_cast<double>(prev->timestamp_us) + 0.5 * dt;
+  step.doppler_motion = guess;
+  step.target_points = target_ ? target_->size() : 0;
+  Pose2 motion = guess;
+  bool ok = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!matcher_ || step.source_points < o.min_points || step.target_points < o.min_points) {
+    step.status = StepStatus::DeadReckoned;
+    ++counters_.dead_reckoned;
+  } else {
+    // Nominal settings for this step, then the new target: one model build (settings are lazy).
+    step.slow = last_dt_ > 0 && velocity.head<2>().norm() < o.slow_speed;
+    const double g0 = step.slow ? o.slow_grid : o.grid;
+    if (matcher_grid_ != g0) setMatcherGrid(*matcher_, matcher_grid_ = g0);
+    if (matcher_shift_ != o.power_shift && setMatcherPowerShift(*matcher_, o.power_shift)) matcher_shift_ = o.power_shift;
+    matcher_->setInputTarget(target_);  // matchScan may replace it with a re-compensated copy
+    target_replaced_ = false;
+    if (last_dt_ <= 0 && !o.start_hypotheses.empty()) {
+      // No velocity yet (the second scan): zero motion may be metres off, and sensor-fixed
+      // returns pull a match towards it. Start from each forward offset hypothesis and keep the
+      // best-scoring result as the guess.
+      double best = -std::numeric_limits<double>::infinity();
+      pcl::PointCloud<PointRadar> aligned;
+      matcher_->setInputSource(scan.cloud);
+      for (const double h : o.start_hypotheses) {
+        matcher_->align(aligned, toMatrix4<float>(Pose2(h, 0, 0)));
+        if (!matcher_->hasConverged()) continue;
+        const Pose2 e = toPose2(matcher_->getFinalTransformation());
+        const double score = matchScore(*matcher_);
+        if (e.allFinite() && score > best) {
+          best = score;
+          guess = e;
+        }
+      }
+      step.doppler_motion = guess;
+    }
+    for (int halving = 0; halving <= o.max_shift_halvings && !ok; ++halving) {
+      if (halving > 0) {
+        const float s = o.power_shift * std::pow(0.5f, static_cast<float>(halving));
+        if (!setMatcherPowerShift(*matcher_, s)) break;  // no power weights: nothing to halve
+        matcher_shift_ = s;
+      }
+      for (double g = g0;; g += o.grid_step) {
+        if (matcher_grid_ != g) setMatcherGrid(*matcher_, matcher_grid_ = g);
+        ++step.attempts;
+        step.grid = g;
+        step.power_shift = matcher_shift_ < 0 ? 0.f : matcher_shift_;
+        Pose2 estimate;
+        if (!matchScan(raw, guess, dt, &estimate, &step.compensation_rounds)) {
+          ++counters_.not_converged;
+        } else if (!acceptScanMotion(estimate, dt, mid_time)) {
+          ++counters_.rejected;
+        } else {
+          motion = estimate;
+          ok = true;
+          break;
+        }
+        if (g > o.max_grid) break;
+      }
+    }
+    if (ok) {
+      trusted_velocity_ = velocityOf(motion, dt);
+      trusted_mid_time_ = mid_time;
+      have_trusted_velocity_ = true;
+      step.status = step.attempts == 1 ? StepStatus::Matched : StepStatus::Retried;
+      ++(step.status == StepStatus::Matched ? counters_.matched : counters_.retried);
+      if (step.slow) ++counters_.slow;
+    } else {
+      step.status = StepStatus::Fallback;
+      ++counters_.fallbacks;
+      motion = guess;
+    }
+    if (matcher_shift_ >= 0 && matcher_shift_ != o.power_shift) ++counters_.shift_halved;
+  }
+  step.match_ms = msSince(t0);
+  step.motion = motion;
+  step.pose = compose(prev->pose, motion);
+  last_accepted_motion_ = motion;
+  last_dt_ = dt;
+  // The next target: this scan at its reference time, with the velocity just estimated.
+  previous_raw_ = scan.cloud;
+  target_.reset(new pcl::PointCloud<PointRadar>);
+  if (o.motion_compensation)
+    compensateMotion(raw, velocityOf(motion, dt), *target_);
+  else
+    *target_ = raw;
   steps_.push_back(step);
   return steps_.back();
 }

@@ -4,6 +4,7 @@
 // are compiled once, in src/matchers.cpp.
 
 #include <string>
+#include <vector>
 
 #include <pcl/registration/registration.h>
 
@@ -41,5 +42,14 @@ void applyPclNdtSettings(PclNdt& ndt, double grid) {
 
 /// Sets the grid size of a matcher made by makeMatcher (used by the failure retries).
 void setMatcherGrid(RadarRegistration& matcher, double grid);
+
+/// How well the last align() fits, larger is better, comparable between aligns of the same
+/// source and target: ours: the NDT score; PCL's NDT: its transformation probability; ICP: minus
+/// its fitness score (mean squared nearest-neighbour distance).
+double matchScore(RadarRegistration& matcher);
+
+/// Sets the power shift s of eq. (1)-(2) when the matcher is ours; false (nothing changed) for
+/// matchers without power weights (PCL's NDT and ICP).
+bool setMatcherPowerShift(RadarRegistration& matcher, float shift);
 
 }  // namespace radar_ndt

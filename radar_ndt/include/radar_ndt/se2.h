@@ -96,4 +96,21 @@ inline Pose2 integrateVelocity(const Eigen::Vector3d& v, double dt) {
   return Pose2((a * v.x() - b * v.y()) * dt, (b * v.x() + a * v.y()) * dt, th);
 }
 
+/// The constant body velocity (vx, vy, ω) that moves by `motion` in `dt` seconds (dt > 0): the
+/// inverse of integrateVelocity, log(motion) / dt on SE(2).
+inline Eigen::Vector3d velocityOf(const Pose2& motion, double dt) {
+  const double th = motion.z();
+  double a, b;
+  if (std::abs(th) < 1e-6) {
+    a = 1.0 - th * th / 6.0;
+    b = 0.5 * th;
+  } else {
+    a = std::sin(th) / th;
+    b = (1.0 - std::cos(th)) / th;
+  }
+  // [a −b; b a]⁻¹ = [a b; −b a] / (a² + b²)
+  const double d = a * a + b * b;
+  return Eigen::Vector3d((a * motion.x() + b * motion.y()) / (d * dt), (-b * motion.x() + a * motion.y()) / (d * dt), th / dt);
+}
+
 }  // namespace radar_ndt

@@ -228,7 +228,10 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   WeightedNDT2D();
   ~WeightedNDT2D() override = default;
 
-  /// Sets the target and builds its cell model (all grid sizes), once per target.
+  /// Sets the target and builds its cell model (all grid sizes), once per target. The setters
+  /// below that change the model (grid sizes, power shift, eigenvalue ratio, minimum points, cell
+  /// lookup) only mark it stale: it is rebuilt once, at the next setInputTarget() or align(), so
+  /// changing settings and target together costs one build.
   void setInputTarget(const PointCloudTargetConstPtr& cloud) override;
 
   /// Grid size g (m), single stage. Default 3.0 m.
@@ -284,7 +287,7 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   double getNdtScore() const { return final_score_; }
   /// Source points the cost uses: finite, positive weight, after the voxel merge.
   std::size_t getNumSourcePoints() const { return source_points_.size(); }
-  /// Cells in the target model of the finest grid, and its memory (bytes).
+  /// Cells in the target model of the finest grid, and its memory (bytes), as last built.
   std::size_t getNumCells() const { return grids_.empty() ? 0 : grids_.back().cells.size(); }
   std::size_t getTargetModelBytes() const;
   /// True when the last align() stopped because the problem was degenerate (too few matched
@@ -326,6 +329,7 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   double max_step_rotation_ = 0.2;
 
   std::vector<detail::NdtGrid> grids_;  // one per resolution, coarse to fine
+  bool model_stale_ = false;            // a setting changed since grids_ was built
   std::vector<detail::WeightedPoint2D> source_points_;
 
   int final_num_iterations_ = 0;

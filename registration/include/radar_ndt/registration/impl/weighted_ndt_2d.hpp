@@ -115,7 +115,7 @@ void WeightedNDT2D<PointSource, PointTarget>::setResolutions(const std::vector<f
     return;
   }
   resolutions_ = sizes;
-  buildTargetModel();
+  model_stale_ = true;  // rebuilt at the next setInputTarget() or align()
 }
 
 template <typename PointSource, typename PointTarget>
@@ -125,7 +125,7 @@ void WeightedNDT2D<PointSource, PointTarget>::setPowerShift(float s) {
     return;
   }
   power_shift_ = s;
-  buildTargetModel();
+  model_stale_ = true;  // rebuilt at the next setInputTarget() or align()
 }
 
 template <typename PointSource, typename PointTarget>
@@ -135,19 +135,19 @@ void WeightedNDT2D<PointSource, PointTarget>::setEigenvalueRatio(double ratio) {
     return;
   }
   eigen_ratio_ = ratio;
-  buildTargetModel();
+  model_stale_ = true;  // rebuilt at the next setInputTarget() or align()
 }
 
 template <typename PointSource, typename PointTarget>
 void WeightedNDT2D<PointSource, PointTarget>::setMinPointsPerCell(int n) {
   min_points_per_cell_ = std::max(1, n);
-  buildTargetModel();
+  model_stale_ = true;  // rebuilt at the next setInputTarget() or align()
 }
 
 template <typename PointSource, typename PointTarget>
 void WeightedNDT2D<PointSource, PointTarget>::setCellLookup(CellLookup lookup) {
   lookup_ = lookup;
-  buildTargetModel();
+  model_stale_ = true;  // rebuilt at the next setInputTarget() or align()
 }
 
 template <typename PointSource, typename PointTarget>
@@ -160,6 +160,7 @@ std::size_t WeightedNDT2D<PointSource, PointTarget>::getTargetModelBytes() const
 template <typename PointSource, typename PointTarget>
 void WeightedNDT2D<PointSource, PointTarget>::buildTargetModel() {
   grids_.clear();
+  model_stale_ = false;
   if (!target_) return;
   grids_.resize(resolutions_.size());
   for (std::size_t i = 0; i < resolutions_.size(); ++i) buildGrid(grids_[i], resolutions_[i]);
@@ -406,6 +407,7 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
     PCL_ERROR("[radar_ndt::%s::computeTransformation] the initial guess is not finite\n", reg_name_.c_str());
     x.setZero();
   }
+  if (model_stale_) buildTargetModel();
   prepareSource();
 
   auto finish = [&](const Pose2& pose) {

@@ -243,11 +243,13 @@ bool Odometry::acceptScanMotion(const Pose2& motion, double dt, double mid_time)
   return (motion.head<2>() - predicted.head<2>()).norm() <= bound_xy && std::abs(normalizeAngle(motion.z() - predicted.z())) <= bound_yaw;
 }
 
-bool Odometry::matchScan(const pcl::PointCloud<PointRadar>& raw, const Pose2& guess, double dt, Pose2* estimate, int* rounds) {
+bool Odometry::matchScan(const pcl::PointCloud<PointRadar>& raw, const Pose2& guess, const Pose2& prev_in_target, double dt, Pose2* estimate,
+                         int* rounds) {
   const auto& o = options_.scanning;
   const bool compensate = o.motion_compensation && dt > 0;
+  const bool target_is_previous = prev_in_target.isZero(1e-9);
   const int max_rounds = compensate ? std::max(1, o.max_compensation_rounds) : 1;
-  Pose2 est = guess;
+  Pose2 est = guess;  // the motion from the previous scan
   Eigen::Vector3d v = compensate ? velocityOf(guess, dt) : Eigen::Vector3d::Zero();
   pcl::PointCloud<PointRadar> aligned;
   if (target_replaced_) {  // a previous attempt's re-compensated target: back to this step's own
@@ -259,7 +261,8 @@ bool Odometry::matchScan(const pcl::PointCloud<PointRadar>& raw, const Pose2& gu
       // Round 0: both scans at the constant-velocity estimate (the target already is). Later
       // rounds: both at the velocity this match found, which is the target sweep's own velocity
       // and the best estimate for the source's.
-      if (r > 0 && previous_raw_) {
+      // The first target was never compensated (no velocity then): it is, from round 0 on.
+      if ((r > 0 || !target_compensated_) && previous_raw_ && target_is_previous) {
         pcl::PointCloud<PointRadar>::Ptr target(new pcl::PointCloud<PointRadar>);
         compensateMotion(*previous_raw_, v, *target);
         matcher_->setInputTarget(target);
@@ -272,9 +275,9 @@ bool Odometry::matchScan(const pcl::PointCloud<PointRadar>& raw, const Pose2& gu
       // The caller's cloud is const; the matcher only reads its source.
       matcher_->setInputSource(pcl::PointCloud<PointRadar>::ConstPtr(&raw, [](const pcl::PointCloud<PointRadar>*) {}));
     }
-    matcher_->align(aligned, toMatrix4<float>(est));
+    matcher_->align(aligned, toMatrix4<float>(compose(prev_in_target, est)));
     if (!matcher_->hasConverged()) return false;
-    est = toPose2(matcher_->getFinalTransformation());
+    est = between(prev_in_target, toPose2(matcher_->getFinalTransformation()));
     if (!est.allFinite()) return false;
     if (!compensate) break;
     const Eigen::Vector3d v_new = velocityOf(est, dt);
@@ -315,6 +318,9 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
     // The first scan: identity. Its velocity is unknown, so it is kept uncompensated (its time
     // offsets are short against any later correction) and becomes the first target.
     step.status = StepStatus::First;
+    keyframe_pose_ = Pose2::Zero();
+    previous_raw_ = scan.cloud;
+    target_compensated_ = false;
     target_.reset(new pcl::PointCloud<PointRadar>(raw));
     for (auto& p : *target_) p.time_offset = 0.f;
     steps_.push_back(step);
@@ -341,6 +347,7 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
     if (matcher_shift_ != o.power_shift && setMatcherPowerShift(*matcher_, o.power_shift)) matcher_shift_ = o.power_shift;
     matcher_->setInputTarget(target_);  // matchScan may replace it with a re-compensated copy
     target_replaced_ = false;
+    const Pose2 prev_in_keyframe = between(keyframe_pose_, prev->pose);
     if (last_dt_ <= 0 && !o.start_hypotheses.empty()) {
       // No velocity yet (the second scan): zero motion may be metres off, and sensor-fixed
       // returns pull a match towards it. Start from each forward offset hypothesis and keep the
@@ -372,7 +379,7 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
         step.grid = g;
         step.power_shift = matcher_shift_ < 0 ? 0.f : matcher_shift_;
         Pose2 estimate;
-        if (!matchScan(raw, guess, dt, &estimate, &step.compensation_rounds)) {
+        if (!matchScan(raw, guess, prev_in_keyframe, dt, &estimate, &step.compensation_rounds)) {
           ++counters_.not_converged;
         } else if (!acceptScanMotion(estimate, dt, mid_time)) {
           ++counters_.rejected;
@@ -403,13 +410,26 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
   step.pose = compose(prev->pose, motion);
   last_accepted_motion_ = motion;
   last_dt_ = dt;
-  // The next target: this scan at its reference time, with the velocity just estimated.
-  previous_raw_ = scan.cloud;
-  target_.reset(new pcl::PointCloud<PointRadar>);
-  if (o.motion_compensation)
-    compensateMotion(raw, velocityOf(motion, dt), *target_);
-  else
-    *target_ = raw;
+  // The next target: this scan at its reference time, with the velocity just estimated, unless
+  // the keyframe is kept (close enough, and this step matched).
+  const Pose2 from_keyframe = between(keyframe_pose_, step.pose);
+  const bool matched = step.status == StepStatus::Matched || step.status == StepStatus::Retried;
+  if (!(o.keyframe_distance > 0) || !matched || from_keyframe.head<2>().norm() >= o.keyframe_distance ||
+      std::abs(from_keyframe.z()) >= o.keyframe_rotation) {
+    keyframe_pose_ = step.pose;
+    previous_raw_ = scan.cloud;
+    target_.reset(new pcl::PointCloud<PointRadar>);
+    if (o.motion_compensation)
+      compensateMotion(raw, velocityOf(motion, dt), *target_);
+    else
+      *target_ = raw;
+    target_compensated_ = true;
+  } else if (!target_compensated_ && o.motion_compensation && previous_raw_) {
+    // The kept keyframe is the first scan: compensate it with the first velocity there is.
+    target_.reset(new pcl::PointCloud<PointRadar>);
+    compensateMotion(*previous_raw_, velocityOf(motion, dt), *target_);
+    target_compensated_ = true;
+  }
   steps_.push_back(step);
   return steps_.back();
 }

@@ -93,6 +93,41 @@ PolarScan ScanningSequence::load(std::size_t k) const {
   return readRadiatePolarPng(paths_[k], stamps_[k], options_.radiate);
 }
 
+void mergeVoxels(const pcl::PointCloud<PointRadar>& in, double size, pcl::PointCloud<PointRadar>& out) {
+  if (!(size > 0)) throw std::invalid_argument("mergeVoxels: voxel size must be > 0");
+  out.clear();
+  out.header = in.header;
+  detail::KeyIndexMap index(in.size() / 2 + 16);
+  std::vector<int> count;
+  const double inv = 1.0 / size;
+  for (const auto& p : in) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+    const double u = std::floor(p.x * inv), v = std::floor(p.y * inv);
+    if (std::abs(u) > 1e9 || std::abs(v) > 1e9) continue;
+    bool inserted = false;
+    const std::int32_t i = index.findOrInsert(static_cast<std::int32_t>(u), static_cast<std::int32_t>(v), static_cast<std::int32_t>(out.size()), inserted);
+    if (inserted) {
+      out.push_back(p);
+      count.push_back(1);
+      continue;
+    }
+    PointRadar& q = out[static_cast<std::size_t>(i)];
+    const int n = ++count[static_cast<std::size_t>(i)];
+    const float w = 1.0f / static_cast<float>(n);  // running means
+    q.x += (p.x - q.x) * w;
+    q.y += (p.y - q.y) * w;
+    q.z += (p.z - q.z) * w;
+    q.time_offset += (p.time_offset - q.time_offset) * w;
+    q.cov_xx += (p.cov_xx - q.cov_xx) * w;
+    q.cov_xy += (p.cov_xy - q.cov_xy) * w;
+    q.cov_yy += (p.cov_yy - q.cov_yy) * w;
+    q.power = std::max(q.power, p.power);
+  }
+  out.width = static_cast<std::uint32_t>(out.size());
+  out.height = 1;
+  out.is_dense = true;
+}
+
 namespace {
 /// A decoded and thresholded scan, or why it could not be.
 struct Prepared {
@@ -102,7 +137,7 @@ struct Prepared {
   double read_ms = 0, front_end_ms = 0;
 };
 
-Prepared prepare(const ScanningSequence& sequence, const PowerThreshold& front_end, std::size_t k) {
+Prepared prepare(const ScanningSequence& sequence, const PowerThreshold& front_end, std::size_t k, double voxel) {
   Prepared p;
   p.index = k;
   try {
@@ -111,6 +146,11 @@ Prepared prepare(const ScanningSequence& sequence, const PowerThreshold& front_e
     const auto t1 = Clock::now();
     p.cloud.reset(new pcl::PointCloud<PointRadar>);
     front_end.compute(scan, *p.cloud);
+    if (voxel > 0) {
+      pcl::PointCloud<PointRadar>::Ptr merged(new pcl::PointCloud<PointRadar>);
+      mergeVoxels(*p.cloud, voxel, *merged);
+      p.cloud = merged;
+    }
     p.read_ms = ms(t0, t1);
     p.front_end_ms = ms(t1, Clock::now());
   } catch (const std::exception& e) {
@@ -157,9 +197,10 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
   std::vector<double> read, fe, match, total, points;
   const auto wall0 = Clock::now();
   std::future<Prepared> next;
+  const double voxel = options.method == Method::PwNdt ? 0.0 : options.pcl_voxel_size;
   auto launch = [&](std::size_t k) {
     return std::async(options.prefetch ? std::launch::async : std::launch::deferred,
-                      [&sequence, &front_end, k]() { return prepare(sequence, front_end, k); });
+                      [&sequence, &front_end, k, voxel]() { return prepare(sequence, front_end, k, voxel); });
   };
   if (n > 0) next = launch(options.start);
   for (std::size_t k = options.start; k < end; ++k) {

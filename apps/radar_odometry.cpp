@@ -366,8 +366,9 @@ int main(int argc, char** argv) {
       "nuscenes: one pose per radar cycle (one sweep of every radar, clocked by the reference radar), the\n"
       "vehicle frame at the reference sweep's timestamp. Unreadable sweeps are reported and left out of their cycle.\n"
       "oxford|radiate: one pose per scan, the vehicle at the scan's timestamp (the first azimuth's); each scan\n"
-      "matched to the previous one from a constant-velocity guess, failures retried with the grid enlarged by\n"
-      "2.5 m, then with s halved; below 1.5 km/h the grid is 1.5 m. Unreadable scans are reported and skipped.";
+      "motion-compensated and matched to the last keyframe (every 8 m) from a constant-velocity guess, failures\n"
+      "retried with the grid enlarged by 2.5 m, then with s halved; below 1.5 km/h the grid is 1.5 m.\n"
+      "Unreadable scans are reported and skipped.";
   po::variables_map vm;
   const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
   if (rc >= 0) return rc;

@@ -49,6 +49,16 @@ struct Progress {
 
 json metricsOf(const EvaluationReport& r) { return json::parse(metricsJson(r)); }
 
+/// The step counts both pipelines report.
+void addStepCounts(json& j, const OdometryCounters& c) {
+  j["matched"] = c.matched;
+  j["retried"] = c.retried;
+  j["fallbacks"] = c.fallbacks;
+  j["fallback_rate"] = c.cycles ? static_cast<double>(c.fallbacks) / static_cast<double>(c.cycles) : 0.0;
+  j["dead_reckoned"] = c.dead_reckoned;
+  j["skipped"] = c.skipped;
+}
+
 json summaryJson(const AutomotiveRunResult& r) {
   const auto& c = r.counters;
   json j;
@@ -56,12 +66,7 @@ json summaryJson(const AutomotiveRunResult& r) {
   j["reference_channel"] = r.reference_channel;
   j["cycles"] = c.cycles;
   j["cycle_period_s"] = r.period_s;
-  j["matched"] = c.matched;
-  j["retried"] = c.retried;
-  j["fallbacks"] = c.fallbacks;
-  j["fallback_rate"] = c.cycles ? static_cast<double>(c.fallbacks) / static_cast<double>(c.cycles) : 0.0;
-  j["dead_reckoned"] = c.dead_reckoned;
-  j["skipped"] = c.skipped;
+  addStepCounts(j, c);
   j["invalid_velocity_cycles"] = r.invalid_velocity_cycles;
   j["unreadable_files"] = r.problems.size();
   j["detections"] = r.detections;
@@ -88,16 +93,11 @@ json scanningSummaryJson(const ScanningRunResult& r, const ScanningRunOptions& o
   j["method"] = toString(o.method);
   j["scans"] = c.cycles;
   j["scan_period_s"] = r.period_s;
-  j["matched"] = c.matched;
-  j["retried"] = c.retried;
-  j["fallbacks"] = c.fallbacks;
-  j["fallback_rate"] = c.cycles ? static_cast<double>(c.fallbacks) / static_cast<double>(c.cycles) : 0.0;
+  addStepCounts(j, c);
   j["power_shift_halved"] = c.shift_halved;
   j["slow_grid"] = c.slow;
   j["attempts_not_converged"] = c.not_converged;
   j["attempts_rejected_by_motion_prior"] = c.rejected;
-  j["dead_reckoned"] = c.dead_reckoned;
-  j["skipped"] = c.skipped;
   j["unreadable_files"] = r.problems.size();
   j["points_per_scan_median"] = r.median_points;
   j["ms_per_scan_median"] = {{"decode", r.median_ms.read_ms}, {"front_end", r.median_ms.front_end_ms},

@@ -5,16 +5,14 @@
 #include <cmath>
 #include <limits>
 
+#include "run_timing.h"
+
 namespace radar_ndt {
 
+using detail::Clock;
+using detail::median;
 namespace {
-using Clock = std::chrono::steady_clock;
-double ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
+double ms(Clock::time_point a, Clock::time_point b) { return detail::msBetween(a, b); }
 }  // namespace
 
 AutomotiveRunOptions withMethod(AutomotiveRunOptions options, Method method) {

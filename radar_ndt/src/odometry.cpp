@@ -7,6 +7,8 @@
 
 #include <Eigen/LU>
 
+#include "run_timing.h"
+
 namespace radar_ndt {
 
 const char* toString(StepStatus s) {
@@ -21,11 +23,7 @@ const char* toString(StepStatus s) {
   return "?";
 }
 
-namespace {
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
+using detail::msSince;
 
 Odometry::Odometry(const OdometryOptions& options, RadarRegistration::Ptr matcher)
     : options_(options), matcher_(std::move(matcher)), submap_(options.submap_size),
@@ -67,6 +65,20 @@ void compensateMotion(const pcl::PointCloud<PointRadar>& in, const Pose2& veloci
     p.cov_yy = static_cast<float>(s * s * xx + 2 * c * s * xy + c * c * yy);
     p.time_offset = 0.f;
   }
+}
+
+const OdometryStep* Odometry::previousStep() const {
+  for (auto it = steps_.rbegin(); it != steps_.rend(); ++it)
+    if (it->status != StepStatus::Skipped) return &*it;
+  return nullptr;
+}
+
+const OdometryStep& Odometry::addSkipped(OdometryStep step, const OdometryStep& prev) {
+  step.status = StepStatus::Skipped;
+  step.pose = prev.pose;
+  ++counters_.skipped;
+  steps_.push_back(step);
+  return steps_.back();
 }
 
 Trajectory Odometry::trajectory() const {
@@ -125,19 +137,8 @@ const OdometryStep& Odometry::add(const ProcessedCycle& cycle) {
   OdometryStep step;
   step.timestamp_us = cycle.timestamp_us;
   ++counters_.cycles;
-  const OdometryStep* prev = nullptr;
-  for (auto it = steps_.rbegin(); it != steps_.rend(); ++it)
-    if (it->status != StepStatus::Skipped) {
-      prev = &*it;
-      break;
-    }
-  if (prev && cycle.timestamp_us <= prev->timestamp_us) {
-    step.status = StepStatus::Skipped;
-    step.pose = prev->pose;
-    ++counters_.skipped;
-    steps_.push_back(step);
-    return steps_.back();
-  }
+  const OdometryStep* prev = previousStep();
+  if (prev && cycle.timestamp_us <= prev->timestamp_us) return addSkipped(step, *prev);
 
   // The cycle's ego-velocity, or the last one with a grown covariance.
   EgoVelocity ego = cycle.ego;
@@ -158,7 +159,7 @@ const OdometryStep& Odometry::add(const ProcessedCycle& cycle) {
   }
 
   const double dt = prev ? 1e-6 * static_cast<double>(cycle.timestamp_us - prev->timestamp_us) : 0.0;
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = detail::Clock::now();
   submap_.add(*cycle.cloud, ego.velocity, ego.covariance, dt);
   pcl::PointCloud<PointRadar>::Ptr source = submap_.cloud();
   step.submap_ms = msSince(t0);
@@ -182,7 +183,7 @@ const OdometryStep& Odometry::add(const ProcessedCycle& cycle) {
     ++counters_.dead_reckoned;
     ok = true;
   } else {
-    t0 = std::chrono::steady_clock::now();
+    t0 = detail::Clock::now();
     pcl::PointCloud<PointRadar> aligned;
     for (int attempt = 0; attempt <= options_.max_retries && !ok; ++attempt) {
       const double g = options_.grid + options_.grid_step * attempt;
@@ -243,11 +244,10 @@ bool Odometry::acceptScanMotion(const Pose2& motion, double dt, double mid_time)
   return (motion.head<2>() - predicted.head<2>()).norm() <= bound_xy && std::abs(normalizeAngle(motion.z() - predicted.z())) <= bound_yaw;
 }
 
-bool Odometry::matchScan(const pcl::PointCloud<PointRadar>& raw, const Pose2& guess, const Pose2& prev_in_target, double dt, Pose2* estimate,
-                         int* rounds) {
+bool Odometry::matchScan(const pcl::PointCloud<PointRadar>& raw, const Pose2& guess, const Pose2& prev_in_target, bool target_is_previous,
+                         double dt, Pose2* estimate, int* rounds) {
   const auto& o = options_.scanning;
   const bool compensate = o.motion_compensation && dt > 0;
-  const bool target_is_previous = prev_in_target.isZero(1e-9);
   const int max_rounds = compensate ? std::max(1, o.max_compensation_rounds) : 1;
   Pose2 est = guess;  // the motion from the previous scan
   Eigen::Vector3d v = compensate ? velocityOf(guess, dt) : Eigen::Vector3d::Zero();
@@ -299,19 +299,8 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
   OdometryStep step;
   step.timestamp_us = scan.timestamp_us;
   ++counters_.cycles;
-  const OdometryStep* prev = nullptr;
-  for (auto it = steps_.rbegin(); it != steps_.rend(); ++it)
-    if (it->status != StepStatus::Skipped) {
-      prev = &*it;
-      break;
-    }
-  if (prev && scan.timestamp_us <= prev->timestamp_us) {
-    step.status = StepStatus::Skipped;
-    step.pose = prev->pose;
-    ++counters_.skipped;
-    steps_.push_back(step);
-    return steps_.back();
-  }
+  const OdometryStep* prev = previousStep();
+  if (prev && scan.timestamp_us <= prev->timestamp_us) return addSkipped(step, *prev);
   const pcl::PointCloud<PointRadar>& raw = *scan.cloud;
   step.source_points = raw.size();
   if (!prev) {
@@ -319,6 +308,7 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
     // offsets are short against any later correction) and becomes the first target.
     step.status = StepStatus::First;
     keyframe_pose_ = Pose2::Zero();
+    keyframe_stamp_us_ = scan.timestamp_us;
     previous_raw_ = scan.cloud;
     target_compensated_ = false;
     target_.reset(new pcl::PointCloud<PointRadar>(raw));
@@ -335,7 +325,7 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
   step.target_points = target_ ? target_->size() : 0;
   Pose2 motion = guess;
   bool ok = false;
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = detail::Clock::now();
   if (!matcher_ || step.source_points < o.min_points || step.target_points < o.min_points) {
     step.status = StepStatus::DeadReckoned;
     ++counters_.dead_reckoned;
@@ -347,7 +337,8 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
     if (matcher_shift_ != o.power_shift && setMatcherPowerShift(*matcher_, o.power_shift)) matcher_shift_ = o.power_shift;
     matcher_->setInputTarget(target_);  // matchScan may replace it with a re-compensated copy
     target_replaced_ = false;
-    const Pose2 prev_in_keyframe = between(keyframe_pose_, prev->pose);
+    const bool target_is_previous = keyframe_stamp_us_ == prev->timestamp_us;
+    const Pose2 prev_in_keyframe = target_is_previous ? Pose2::Zero() : between(keyframe_pose_, prev->pose);
     if (last_dt_ <= 0 && !o.start_hypotheses.empty()) {
       // No velocity yet (the second scan): zero motion may be metres off, and sensor-fixed
       // returns pull a match towards it. Start from each forward offset hypothesis and keep the
@@ -379,7 +370,7 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
         step.grid = g;
         step.power_shift = matcher_shift_ < 0 ? 0.f : matcher_shift_;
         Pose2 estimate;
-        if (!matchScan(raw, guess, prev_in_keyframe, dt, &estimate, &step.compensation_rounds)) {
+        if (!matchScan(raw, guess, prev_in_keyframe, target_is_previous, dt, &estimate, &step.compensation_rounds)) {
           ++counters_.not_converged;
         } else if (!acceptScanMotion(estimate, dt, mid_time)) {
           ++counters_.rejected;
@@ -417,6 +408,7 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
   if (!(o.keyframe_distance > 0) || !matched || from_keyframe.head<2>().norm() >= o.keyframe_distance ||
       std::abs(from_keyframe.z()) >= o.keyframe_rotation) {
     keyframe_pose_ = step.pose;
+    keyframe_stamp_us_ = step.timestamp_us;
     previous_raw_ = scan.cloud;
     target_.reset(new pcl::PointCloud<PointRadar>);
     if (o.motion_compensation)

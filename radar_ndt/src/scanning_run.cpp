@@ -5,23 +5,19 @@
 #include <cmath>
 #include <cstdio>
 #include <future>
-#include <map>
 #include <stdexcept>
 #include <sys/stat.h>
 
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/se2.h"
+#include "run_timing.h"
 
 namespace radar_ndt {
 
+using detail::Clock;
+using detail::median;
 namespace {
-using Clock = std::chrono::steady_clock;
-double ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
+double ms(Clock::time_point a, Clock::time_point b) { return detail::msBetween(a, b); }
 bool exists(const std::string& path) {
   struct stat st;
   return ::stat(path.c_str(), &st) == 0;

@@ -65,9 +65,9 @@ void TopViewMap::writePng(const std::string& path, int max_side) const {
     const auto g = static_cast<std::uint8_t>(std::lround(255.0 * std::sqrt(std::min(1.0f, std::max(0.0f, p)))));
     px[0] = px[1] = px[2] = std::max(px[0], g);
   }
-  for (std::size_t n = 0; n + 1 < poses_.size() || n < poses_.size(); ++n) {
-    // The trajectory: a red line between consecutive poses.
-    const Pose2 a = poses_[n], b = n + 1 < poses_.size() ? poses_[n + 1] : poses_[n];
+  for (std::size_t n = 0; n < poses_.size(); ++n) {
+    // The trajectory: a red line between consecutive poses (a dot for a single one).
+    const Pose2 a = poses_[n], b = poses_[std::min(n + 1, poses_.size() - 1)];
     const double len = (b.head<2>() - a.head<2>()).norm();
     const int steps = std::max(1, static_cast<int>(std::ceil(len / (0.5 * resolution_))));
     for (int s = 0; s <= steps; ++s) {

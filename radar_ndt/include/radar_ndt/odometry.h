@@ -162,12 +162,17 @@ class Odometry {
   Trajectory trajectory() const;
 
  private:
+  /// The last step that was not skipped (nullptr before the first).
+  const OdometryStep* previousStep() const;
+  /// Records `step` as skipped (its timestamp does not advance past `prev`'s).
+  const OdometryStep& addSkipped(OdometryStep step, const OdometryStep& prev);
   bool acceptScanMotion(const Pose2& motion, double dt, double mid_time) const;
   /// One attempt at the current matcher settings: match, re-compensate, match again (≤ rounds).
   /// `guess` and `*estimate`: the motion from the previous scan; `prev_in_target`: the previous
-  /// scan's pose in the target's (keyframe's) frame, zero when the target is the previous scan.
-  bool matchScan(const pcl::PointCloud<PointRadar>& raw, const Pose2& guess, const Pose2& prev_in_target, double dt, Pose2* estimate,
-                 int* rounds);
+  /// scan's pose in the target's (keyframe's) frame, zero when `target_is_previous` (then the
+  /// target can be re-compensated with each round's velocity).
+  bool matchScan(const pcl::PointCloud<PointRadar>& raw, const Pose2& guess, const Pose2& prev_in_target, bool target_is_previous,
+                 double dt, Pose2* estimate, int* rounds);
   bool accept(const Pose2& motion, const Pose2& guess, const Eigen::Matrix3d& guess_cov, double dt, double* chi2) const;
   void weightByDoppler(pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings, const Pose2& motion,
                        double dt) const;
@@ -192,7 +197,8 @@ class Odometry {
   Eigen::Vector3d trusted_velocity_ = Eigen::Vector3d::Zero();  ///< of the last accepted match
   double trusted_mid_time_ = 0;  ///< s, the middle of that match's interval
   bool have_trusted_velocity_ = false;
-  Pose2 keyframe_pose_ = Pose2::Zero();  ///< pose of the scan in target_  ///< the matcher holds a re-compensated copy of target_
+  Pose2 keyframe_pose_ = Pose2::Zero();  ///< pose of the scan in target_
+  std::int64_t keyframe_stamp_us_ = 0;   ///< and its timestamp  ///< the matcher holds a re-compensated copy of target_
 };
 
 }  // namespace radar_ndt

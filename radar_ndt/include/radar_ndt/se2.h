@@ -83,9 +83,9 @@ inline Pose2 toPose2(const Eigen::Isometry3d& T) { return toPose2(T.matrix()); }
 
 /// The motion over `dt` seconds at constant body velocity v = (vx, vy, ω) (vehicle frame): the pose
 /// of the vehicle at t + dt in its frame at t, exp(v·dt) on SE(2) (exact along the arc).
-inline Pose2 integrateVelocity(const Eigen::Vector3d& v, double dt) {
-  const double th = v.z() * dt;
-  double a, b;  // sin θ / θ and (1 − cos θ) / θ, by series near 0
+namespace detail {
+/// sin θ / θ and (1 − cos θ) / θ, by series near 0: the entries of SE(2)'s V(θ) = [a −b; b a].
+inline void expCoefficients(double th, double& a, double& b) {
   if (std::abs(th) < 1e-6) {
     a = 1.0 - th * th / 6.0;
     b = 0.5 * th;
@@ -93,6 +93,13 @@ inline Pose2 integrateVelocity(const Eigen::Vector3d& v, double dt) {
     a = std::sin(th) / th;
     b = (1.0 - std::cos(th)) / th;
   }
+}
+}  // namespace detail
+
+inline Pose2 integrateVelocity(const Eigen::Vector3d& v, double dt) {
+  const double th = v.z() * dt;
+  double a, b;
+  detail::expCoefficients(th, a, b);
   return Pose2((a * v.x() - b * v.y()) * dt, (b * v.x() + a * v.y()) * dt, th);
 }
 
@@ -101,13 +108,7 @@ inline Pose2 integrateVelocity(const Eigen::Vector3d& v, double dt) {
 inline Eigen::Vector3d velocityOf(const Pose2& motion, double dt) {
   const double th = motion.z();
   double a, b;
-  if (std::abs(th) < 1e-6) {
-    a = 1.0 - th * th / 6.0;
-    b = 0.5 * th;
-  } else {
-    a = std::sin(th) / th;
-    b = (1.0 - std::cos(th)) / th;
-  }
+  detail::expCoefficients(th, a, b);
   // [a −b; b a]⁻¹ = [a b; −b a] / (a² + b²)
   const double d = a * a + b * b;
   return Eigen::Vector3d((a * motion.x() + b * motion.y()) / (d * dt), (-b * motion.x() + a * motion.y()) / (d * dt), th / dt);

@@ -1,0 +1,24 @@
+#pragma once
+// Internal: the wall-clock helpers the run drivers (automotive_run.cpp, scanning_run.cpp) and
+// Odometry share for their per-stage timings.
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+namespace radar_ndt {
+namespace detail {
+
+using Clock = std::chrono::steady_clock;
+
+inline double msBetween(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+inline double msSince(Clock::time_point t0) { return msBetween(t0, Clock::now()); }
+
+/// The upper median (0 for no values).
+inline double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace detail
+}  // namespace radar_ndt

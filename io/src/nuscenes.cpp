@@ -57,74 +57,8 @@ pcl::PointCloud<PointRadar> readNuScenesRadarPcd(const std::string& path, const 
 
   const std::size_t n = h.points;
   // Only the columns we use, as doubles: [point][column], NaN where the file lacks the field.
-  std::vector<double> table(n * kColumns, std::numeric_limits<double>::quiet_NaN());
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path, "cannot open file for reading");
-  in.seekg(static_cast<std::streamoff>(h.data_offset));
-
-  if (h.data == detail::PcdData::Ascii) {
-    // Position of each used column's first value on a line, and the values a line must have.
-    std::size_t expected = 0;
-    std::array<std::size_t, kColumns> pos{};
-    for (std::size_t f = 0; f < h.fields.size(); ++f) {
-      for (int c = 0; c < kColumns; ++c)
-        if (col[c] == static_cast<int>(f)) pos[c] = expected;
-      expected += h.fields[f].count;
-    }
-    std::string line;
-    std::size_t i = 0, line_skip = 0;
-    std::vector<double> values;
-    while (i < n && std::getline(in, line)) {
-      ++line_skip;
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      if (line.find_first_not_of(" \t") == std::string::npos) continue;
-      values.clear();
-      const char* s = line.c_str();
-      char* end = nullptr;
-      for (;;) {
-        while (*s == ' ' || *s == '\t') ++s;
-        if (!*s) break;
-        const double v = std::strtod(s, &end);
-        if (end == s) throw IoError(path, "data line " + std::to_string(line_skip) + ": unparsable value '" + std::string(s).substr(0, 20) + "'");
-        values.push_back(v);
-        s = end;
-      }
-      if (values.size() != expected)
-        throw IoError(path, "data line " + std::to_string(line_skip) + ": " + std::to_string(values.size()) + " values, the header declares " +
-                                std::to_string(expected));
-      for (int c = 0; c < kColumns; ++c)
-        if (col[c] >= 0) table[i * kColumns + static_cast<std::size_t>(c)] = values[pos[c]];
-      ++i;
-    }
-    if (i < n) throw IoError(path, "truncated: " + std::to_string(i) + " of " + std::to_string(n) + " declared points");
-  } else if (n > 0) {
-    std::vector<unsigned char> data(n * h.point_bytes);
-    bool soa = false;  // binary_compressed stores field after field (structure of arrays)
-    if (h.data == detail::PcdData::Binary) {
-      if (!in.read(reinterpret_cast<char*>(data.data()), static_cast<std::streamsize>(data.size())))
-        throw IoError(path, "truncated binary data");
-    } else {
-      unsigned char words[8];
-      in.read(reinterpret_cast<char*>(words), 8);
-      std::uint32_t compressed = 0;
-      for (int b = 3; b >= 0; --b) compressed = (compressed << 8) | words[b];
-      std::vector<unsigned char> packed(compressed);
-      if (!in.read(reinterpret_cast<char*>(packed.data()), static_cast<std::streamsize>(packed.size())))
-        throw IoError(path, "truncated binary_compressed data");
-      if (!detail::lzfDecompress(packed.data(), packed.size(), data.data(), data.size()))
-        throw IoError(path, "corrupt binary_compressed data (LZF stream does not decode to the declared size)");
-      soa = true;
-    }
-    for (int c = 0; c < kColumns; ++c) {
-      if (col[c] < 0) continue;
-      const detail::PcdField& f = h.fields[static_cast<std::size_t>(col[c])];
-      // Where element 0 of this field of point i starts, in either layout.
-      const std::size_t start = soa ? n * f.offset : f.offset;
-      const std::size_t stride = soa ? f.size * f.count : h.point_bytes;
-      for (std::size_t i = 0; i < n; ++i)
-        table[i * kColumns + static_cast<std::size_t>(c)] = detail::readPcdScalar(data.data() + start + i * stride, f);
-    }
-  }
+  const std::vector<double> table =
+      detail::readPcdColumns(path, h, std::vector<std::string>(std::begin(kColumnNames), std::end(kColumnNames)));
 
   NuScenesPcdStats local;
   local.points_in_file = n;
@@ -133,7 +67,9 @@ pcl::PointCloud<PointRadar> readNuScenesRadarPcd(const std::string& path, const 
   for (std::size_t i = 0; i < n; ++i) {
     const double* r = &table[i * kColumns];
     const double z = std::isnan(r[kZ]) && col[kZ] < 0 ? 0.0 : r[kZ];
-    if (!std::isfinite(r[kX]) || !std::isfinite(r[kY]) || !std::isfinite(z) || !std::isfinite(r[kVx]) || !std::isfinite(r[kVy])) {
+    // Finite as floats too: a value beyond float's range is as unusable as Inf.
+    if (!detail::finiteAsFloat(r[kX]) || !detail::finiteAsFloat(r[kY]) || !detail::finiteAsFloat(z) ||
+        !detail::finiteAsFloat(r[kVx]) || !detail::finiteAsFloat(r[kVy])) {
       ++local.dropped_non_finite;
       continue;
     }
@@ -146,8 +82,9 @@ pcl::PointCloud<PointRadar> readNuScenesRadarPcd(const std::string& path, const 
       continue;
     }
     PointRadar p(static_cast<float>(r[kX]), static_cast<float>(r[kY]), static_cast<float>(z), 1.f);
-    p.doppler = range > 1e-6 ? static_cast<float>((r[kX] * r[kVx] + r[kY] * r[kVy]) / range) : 0.f;
-    p.rcs = std::isfinite(r[kRcs]) ? static_cast<float>(r[kRcs]) : 0.f;
+    const double doppler = range > 1e-6 ? (r[kX] * r[kVx] + r[kY] * r[kVy]) / range : 0.0;
+    p.doppler = detail::finiteAsFloat(doppler) ? static_cast<float>(doppler) : 0.f;
+    p.rcs = detail::finiteAsFloat(r[kRcs]) ? static_cast<float>(r[kRcs]) : 0.f;
     p.sensor_id = sensor_id;
     const double sx = std::isfinite(r[kXRms]) ? ars408RmsValue(static_cast<int>(std::lround(r[kXRms]))) : NAN;
     const double sy = std::isfinite(r[kYRms]) ? ars408RmsValue(static_cast<int>(std::lround(r[kYRms]))) : NAN;

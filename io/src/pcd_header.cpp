@@ -1,8 +1,11 @@
 #include "pcd_header.h"
 
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "radar_ndt/io/io_error.h"
@@ -187,6 +190,84 @@ double readPcdScalar(const unsigned char* p, const PcdField& f) {
         default: { std::uint64_t v; std::memcpy(&v, p, 8); return static_cast<double>(v); }
       }
   }
+}
+
+bool finiteAsFloat(double v) { return std::isfinite(v) && std::abs(v) <= std::numeric_limits<float>::max(); }
+
+std::vector<double> readPcdColumns(const std::string& path, const PcdHeader& h, const std::vector<std::string>& names) {
+  const std::size_t n = h.points, k = names.size();
+  std::vector<int> col(k);
+  for (std::size_t c = 0; c < k; ++c) col[c] = h.find(names[c]);
+  std::vector<double> table(n * k, std::numeric_limits<double>::quiet_NaN());
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path, "cannot open file for reading");
+  in.seekg(static_cast<std::streamoff>(h.data_offset));
+
+  if (h.data == PcdData::Ascii) {
+    // Position of each wanted column's first value on a line, and the values a line must have.
+    std::size_t expected = 0;
+    std::vector<std::size_t> pos(k, 0);
+    for (std::size_t f = 0; f < h.fields.size(); ++f) {
+      for (std::size_t c = 0; c < k; ++c)
+        if (col[c] == static_cast<int>(f)) pos[c] = expected;
+      expected += h.fields[f].count;
+    }
+    std::string line;
+    std::size_t i = 0, line_number = 0;
+    std::vector<double> values;
+    while (i < n && std::getline(in, line)) {
+      ++line_number;
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (line.find_first_not_of(" \t") == std::string::npos) continue;
+      values.clear();
+      const char* s = line.c_str();
+      char* end = nullptr;
+      for (;;) {
+        while (*s == ' ' || *s == '\t') ++s;
+        if (!*s) break;
+        const double v = std::strtod(s, &end);
+        if (end == s)
+          throw IoError(path, "data line " + std::to_string(line_number) + ": unparsable value '" + std::string(s).substr(0, 20) + "'");
+        values.push_back(v);
+        s = end;
+      }
+      if (values.size() != expected)
+        throw IoError(path, "data line " + std::to_string(line_number) + ": " + std::to_string(values.size()) +
+                                " values, the header declares " + std::to_string(expected));
+      for (std::size_t c = 0; c < k; ++c)
+        if (col[c] >= 0) table[i * k + c] = values[pos[c]];
+      ++i;
+    }
+    if (i < n) throw IoError(path, "truncated: " + std::to_string(i) + " of " + std::to_string(n) + " declared points");
+    return table;
+  }
+  if (n == 0) return table;
+  std::vector<unsigned char> data(n * h.point_bytes);
+  bool soa = false;  // binary_compressed stores field after field (structure of arrays)
+  if (h.data == PcdData::Binary) {
+    if (!in.read(reinterpret_cast<char*>(data.data()), static_cast<std::streamsize>(data.size())))
+      throw IoError(path, "truncated binary data");
+  } else {
+    unsigned char words[8];
+    if (!in.read(reinterpret_cast<char*>(words), 8)) throw IoError(path, "truncated binary_compressed data");
+    std::uint32_t compressed = 0;
+    for (int b = 3; b >= 0; --b) compressed = (compressed << 8) | words[b];
+    std::vector<unsigned char> packed(compressed);
+    if (!in.read(reinterpret_cast<char*>(packed.data()), static_cast<std::streamsize>(packed.size())))
+      throw IoError(path, "truncated binary_compressed data");
+    if (!lzfDecompress(packed.data(), packed.size(), data.data(), data.size()))
+      throw IoError(path, "corrupt binary_compressed data (LZF stream does not decode to the declared size)");
+    soa = true;
+  }
+  for (std::size_t c = 0; c < k; ++c) {
+    if (col[c] < 0) continue;
+    const PcdField& f = h.fields[static_cast<std::size_t>(col[c])];
+    // Where element 0 of this field of point i starts, in either layout.
+    const std::size_t start = soa ? n * f.offset : f.offset;
+    const std::size_t stride = soa ? f.size * f.count : h.point_bytes;
+    for (std::size_t i = 0; i < n; ++i) table[i * k + c] = readPcdScalar(data.data() + start + i * stride, f);
+  }
+  return table;
 }
 
 }  // namespace detail

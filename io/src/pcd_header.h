@@ -43,5 +43,14 @@ bool lzfDecompress(const unsigned char* in, std::size_t in_size, unsigned char* 
 /// Reads one value of field `f`'s type and size stored at `p`, as a double.
 double readPcdScalar(const unsigned char* p, const PcdField& f);
 
+/// The values of the named fields (the first element of each) of every point of `path`, whose
+/// header is `h`, as doubles: `result[i * names.size() + c]`, NaN where the file has no field
+/// names[c]. ascii, binary and binary_compressed. Throws IoError naming the file for truncated or
+/// corrupt data or an ascii line with the wrong number of values.
+std::vector<double> readPcdColumns(const std::string& path, const PcdHeader& h, const std::vector<std::string>& names);
+
+/// `v` is finite and within float's range (converting it to float is defined and finite).
+bool finiteAsFloat(double v);
+
 }  // namespace detail
 }  // namespace radar_ndt

@@ -22,6 +22,7 @@ constexpr int kOxfordMetaBytes = 11;  // int64 timestamp, uint16 encoder, uint8 
 // Upper bound on decoded pixels (a 16-bit-wide, 2^16-row image): a PNG header can declare any size,
 // and a tiny file can inflate to gigabytes; real Navtech scans are 400 × 3779.
 constexpr std::size_t kMaxPixels = std::size_t{1} << 28;
+constexpr std::size_t kMaxInflation = 1100;  // deflate's limit is 1032:1, plus PNG's per-row filter byte
 
 double wrapPi(double a) {
   a = std::fmod(a, kTwoPi);
@@ -51,6 +52,13 @@ GrayImage decodeGrayPng(const std::string& path, const std::string& data) {
     png_image_free(&image);
     throw IoError(path, "PNG declares an absurd size " + std::to_string(image.width) + "x" +
                             std::to_string(image.height));
+  }
+  // zlib inflates at most ~1032:1, so a header that declares more pixels than the file can hold is
+  // refused before the image is allocated.
+  if (pixels / kMaxInflation > data.size()) {
+    png_image_free(&image);
+    throw IoError(path, "PNG declares " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                            " pixels, more than its " + std::to_string(data.size()) + " bytes can hold (truncated?)");
   }
   image.format = PNG_FORMAT_GRAY;  // alpha (if any) is dropped; the data has none
   GrayImage out;
@@ -284,7 +292,7 @@ PolarScan readRadiatePolarPng(const std::string& path, std::int64_t frame_time_u
   return scan;
 }
 
-std::vector<OxfordStamp> readOxfordTimestamps(const std::string& path) {
+std::vector<OxfordStamp> readOxfordTimestamps(const std::string& path, std::vector<IoError>* skipped) {
   std::ifstream in(path);
   if (!in) throw IoError(path, "cannot open file");
   std::vector<OxfordStamp> out;
@@ -292,19 +300,25 @@ std::vector<OxfordStamp> readOxfordTimestamps(const std::string& path) {
   std::size_t n = 0;
   while (std::getline(in, line)) {
     ++n;
-    std::istringstream ss(line);
-    std::string t, v, extra;
-    if (!(ss >> t)) continue;  // blank line
-    if (!(ss >> v) || (ss >> extra))
-      throw IoError(path, n, "expected '<timestamp> <valid>', found '" + line + "'");
-    OxfordStamp s;
-    s.stamp = parseInt64(path, n, t, "timestamp");
-    const std::int64_t valid = parseInt64(path, n, v, "valid flag");
-    if (valid != 0 && valid != 1) throw IoError(path, n, "valid flag must be 0 or 1, found " + v);
-    s.valid = valid == 1;
-    if (!out.empty() && s.stamp <= out.back().stamp)
-      throw IoError(path, n, "timestamps out of order (" + t + " after " + std::to_string(out.back().stamp) + ")");
-    out.push_back(s);
+    try {
+      std::istringstream ss(line);
+      std::string t, v, extra;
+      if (!(ss >> t)) continue;  // blank line
+      if (!(ss >> v) || (ss >> extra))
+        throw IoError(path, n, "expected '<timestamp> <valid>', found '" + line + "'");
+      OxfordStamp s;
+      s.stamp = parseInt64(path, n, t, "timestamp");
+      const std::int64_t valid = parseInt64(path, n, v, "valid flag");
+      if (valid != 0 && valid != 1) throw IoError(path, n, "valid flag must be 0 or 1, found " + v);
+      s.valid = valid == 1;
+      if (!out.empty() && s.stamp <= out.back().stamp)
+        throw IoError(path, n, std::string(s.stamp == out.back().stamp ? "duplicated timestamp" : "timestamps out of order") +
+                                   " (" + t + " after " + std::to_string(out.back().stamp) + ")");
+      out.push_back(s);
+    } catch (const IoError& e) {
+      if (!skipped) throw;
+      skipped->push_back(e);
+    }
   }
   return out;
 }
@@ -370,7 +384,7 @@ void writeOxfordRadarOdometry(const std::string& path, const std::vector<OxfordR
   writeFileAtomically(path, s.str());
 }
 
-std::vector<RadiateFrame> readRadiateFrameTimes(const std::string& path) {
+std::vector<RadiateFrame> readRadiateFrameTimes(const std::string& path, std::vector<IoError>* skipped) {
   std::ifstream in(path);
   if (!in) throw IoError(path, "cannot open file");
   std::vector<RadiateFrame> out;
@@ -378,24 +392,36 @@ std::vector<RadiateFrame> readRadiateFrameTimes(const std::string& path) {
   std::size_t n = 0;
   while (std::getline(in, line)) {
     ++n;
-    std::istringstream ss(line);
-    std::string kf, f, kt, t;
-    if (!(ss >> kf)) continue;
-    if (kf != "Frame:" || !(ss >> f >> kt >> t) || kt != "Time:")
-      throw IoError(path, n, "expected 'Frame: <n> Time: <seconds>', found '" + line + "'");
-    RadiateFrame r;
-    r.frame = static_cast<int>(parseInt64(path, n, f, "frame number"));
-    // Seconds with up to 9 decimals: split at the dot to keep microseconds exact.
-    const std::size_t dot = t.find('.');
-    const std::string whole = t.substr(0, dot);
-    std::string frac = dot == std::string::npos ? "" : t.substr(dot + 1);
-    for (char c : frac)
-      if (c < '0' || c > '9') throw IoError(path, n, "cannot parse time '" + t + "'");
-    frac = (frac + "000000").substr(0, 6);
-    r.stamp_us = parseInt64(path, n, whole, "time") * 1000000 + parseInt64(path, n, frac, "time");
-    if (!out.empty() && r.stamp_us <= out.back().stamp_us)
-      throw IoError(path, n, "frame times out of order");
-    out.push_back(r);
+    try {
+      std::istringstream ss(line);
+      std::string kf, f, kt, t;
+      if (!(ss >> kf)) continue;
+      if (kf != "Frame:" || !(ss >> f >> kt >> t) || kt != "Time:")
+        throw IoError(path, n, "expected 'Frame: <n> Time: <seconds>', found '" + line + "'");
+      RadiateFrame r;
+      const std::int64_t frame = parseInt64(path, n, f, "frame number");
+      if (frame < 0 || frame > 999999) throw IoError(path, n, "frame number " + f + " outside 0..999999");
+      r.frame = static_cast<int>(frame);
+      // Seconds with up to 9 decimals: split at the dot to keep microseconds exact.
+      const std::size_t dot = t.find('.');
+      const std::string whole = t.substr(0, dot);
+      std::string frac = dot == std::string::npos ? "" : t.substr(dot + 1);
+      for (char c : frac)
+        if (c < '0' || c > '9') throw IoError(path, n, "cannot parse time '" + t + "'");
+      frac = (frac + "000000").substr(0, 6);
+      const std::int64_t seconds = parseInt64(path, n, whole, "time");
+      // Microseconds must fit in 64 bits (and a negative time is no Navtech clock).
+      if (seconds < 0 || seconds > std::numeric_limits<std::int64_t>::max() / 1000000 - 1)
+        throw IoError(path, n, "time '" + t + "' out of range");
+      r.stamp_us = seconds * 1000000 + parseInt64(path, n, frac, "time");
+      if (!out.empty() && r.stamp_us <= out.back().stamp_us)
+        throw IoError(path, n, std::string(r.stamp_us == out.back().stamp_us ? "duplicated frame time" : "frame times out of order") +
+                                   " (frame " + f + ")");
+      out.push_back(r);
+    } catch (const IoError& e) {
+      if (!skipped) throw;
+      skipped->push_back(e);
+    }
   }
   return out;
 }

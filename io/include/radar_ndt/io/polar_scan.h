@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/io/io_error.h"
+
 namespace radar_ndt {
 
 /// One sweep of a scanning radar in polar form.
@@ -105,8 +107,10 @@ struct OxfordStamp {
   std::int64_t stamp = 0;
   bool valid = true;
 };
-/// Strictly increasing timestamps required; throws IoError with the line number otherwise.
-std::vector<OxfordStamp> readOxfordTimestamps(const std::string& path);
+/// Strictly increasing timestamps required; throws IoError with the line number otherwise. With
+/// `skipped`, a bad line (unparsable, duplicated or out-of-order timestamp) is left out and its
+/// error appended there instead, so a sequence with a few bad index lines can still be run.
+std::vector<OxfordStamp> readOxfordTimestamps(const std::string& path, std::vector<IoError>* skipped = nullptr);
 void writeOxfordTimestamps(const std::string& path, const std::vector<OxfordStamp>& stamps);
 
 /// One row of Oxford `gt/radar_odometry.csv`: the motion from the destination scan (the earlier)
@@ -130,6 +134,8 @@ struct RadiateFrame {
   int frame = 0;
   std::int64_t stamp_us = 0;
 };
-std::vector<RadiateFrame> readRadiateFrameTimes(const std::string& path);
+/// Frame numbers 0..999999 (the file names), strictly increasing times; `skipped` as for
+/// readOxfordTimestamps.
+std::vector<RadiateFrame> readRadiateFrameTimes(const std::string& path, std::vector<IoError>* skipped = nullptr);
 
 }  // namespace radar_ndt

@@ -57,6 +57,7 @@ void addStepCounts(json& j, const OdometryCounters& c) {
   j["fallback_rate"] = c.cycles ? static_cast<double>(c.fallbacks) / static_cast<double>(c.cycles) : 0.0;
   j["dead_reckoned"] = c.dead_reckoned;
   j["skipped"] = c.skipped;
+  j["bridged"] = c.bridged;
 }
 
 json summaryJson(const AutomotiveRunResult& r) {
@@ -98,6 +99,7 @@ json scanningSummaryJson(const ScanningRunResult& r, const ScanningRunOptions& o
   j["slow_grid"] = c.slow;
   j["attempts_not_converged"] = c.not_converged;
   j["attempts_rejected_by_motion_prior"] = c.rejected;
+  j["attempts_rejected_for_poor_fit"] = c.poor_fit;
   j["unreadable_files"] = r.problems.size();
   j["points_per_scan_median"] = r.median_points;
   j["ms_per_scan_median"] = {{"decode", r.median_ms.read_ms}, {"front_end", r.median_ms.front_end_ms},
@@ -148,10 +150,10 @@ int runScanningMode(const ScanningRunOptions& options, ScanFormat format, const 
   }
   const auto& c = r.counters;
   std::printf("%s: %zu scans (%s, %.2f Hz), %.0f points/scan; matched %zu, retried %zu, fallbacks %zu (%.1f %%), s halved %zu, "
-              "slow grid %zu, %zu unreadable files\n",
+              "slow grid %zu, bridged %zu, skipped %zu; %zu problems\n",
               sequence.name().c_str(), c.cycles, toString(format), r.period_s > 0 ? 1.0 / r.period_s : 0.0, r.median_points, c.matched,
               c.retried, c.fallbacks, c.cycles ? 100.0 * static_cast<double>(c.fallbacks) / static_cast<double>(c.cycles) : 0.0,
-              c.shift_halved, c.slow, r.problems.size());
+              c.shift_halved, c.slow, c.bridged, c.skipped, r.problems.size());
   std::printf("  ms per scan (median, one core): decode %.2f, front-end %.2f, match %.2f, total %.2f; end to end %.1f scans/s "
               "(decode on a second thread), %.0fx real time\n",
               r.median_ms.read_ms, r.median_ms.front_end_ms, r.median_ms.match_ms, r.median_total_ms, r.scans_per_second,

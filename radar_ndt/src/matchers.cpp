@@ -1,6 +1,8 @@
 #define PCL_NO_PRECOMPILE
 #include "radar_ndt/matchers.h"
 
+#include <limits>
+
 #include <stdexcept>
 
 #include <pcl/registration/icp.h>
@@ -76,6 +78,12 @@ double matchScore(RadarRegistration& matcher) {
   if (auto* ndt = dynamic_cast<pcl::NormalDistributionsTransform<PointRadar, PointRadar>*>(&matcher))
     return ndt->getTransformationProbability();
   return -matcher.getFitnessScore();
+}
+
+double matchFitPerPoint(RadarRegistration& matcher) {
+  auto* ours = dynamic_cast<WeightedNDT2D<PointRadar, PointRadar>*>(&matcher);
+  if (!ours || ours->getNumSourcePoints() == 0) return std::numeric_limits<double>::quiet_NaN();
+  return ours->getNdtScore() / static_cast<double>(ours->getNumSourcePoints());
 }
 
 bool setMatcherPowerShift(RadarRegistration& matcher, float shift) {

@@ -19,6 +19,7 @@ const char* toString(StepStatus s) {
     case StepStatus::Fallback: return "fallback";
     case StepStatus::DeadReckoned: return "dead-reckoned";
     case StepStatus::Skipped: return "skipped";
+    case StepStatus::Bridged: return "bridged";
   }
   return "?";
 }
@@ -69,7 +70,7 @@ void compensateMotion(const pcl::PointCloud<PointRadar>& in, const Pose2& veloci
 
 const OdometryStep* Odometry::previousStep() const {
   for (auto it = steps_.rbegin(); it != steps_.rend(); ++it)
-    if (it->status != StepStatus::Skipped) return &*it;
+    if (it->status != StepStatus::Skipped && it->status != StepStatus::Bridged) return &*it;
   return nullptr;
 }
 
@@ -77,6 +78,28 @@ const OdometryStep& Odometry::addSkipped(OdometryStep step, const OdometryStep& 
   step.status = StepStatus::Skipped;
   step.pose = prev.pose;
   ++counters_.skipped;
+  steps_.push_back(step);
+  return steps_.back();
+}
+
+const OdometryStep& Odometry::bridge(std::int64_t timestamp_us) {
+  OdometryStep step;
+  step.timestamp_us = timestamp_us;
+  ++counters_.cycles;
+  const OdometryStep* prev = previousStep();
+  if (!prev) {  // nothing to continue from: no pose
+    step.status = StepStatus::Skipped;
+    ++counters_.skipped;
+    steps_.push_back(step);
+    return steps_.back();
+  }
+  if (timestamp_us <= prev->timestamp_us) return addSkipped(step, *prev);
+  const double dt = 1e-6 * static_cast<double>(timestamp_us - prev->timestamp_us);
+  const Eigen::Vector3d velocity = last_dt_ > 0 ? velocityOf(last_accepted_motion_, last_dt_) : Eigen::Vector3d::Zero();
+  step.motion = step.doppler_motion = integrateVelocity(velocity, dt);
+  step.pose = compose(prev->pose, step.motion);
+  step.status = StepStatus::Bridged;
+  ++counters_.bridged;
   steps_.push_back(step);
   return steps_.back();
 }
@@ -244,6 +267,14 @@ bool Odometry::acceptScanMotion(const Pose2& motion, double dt, double mid_time)
   return (motion.head<2>() - predicted.head<2>()).norm() <= bound_xy && std::abs(normalizeAngle(motion.z() - predicted.z())) <= bound_yaw;
 }
 
+bool Odometry::acceptScanFit(double fit) const {
+  const auto& o = options_.scanning;
+  if (!(o.min_relative_fit > 0) || !std::isfinite(fit) || recent_fits_.size() < 5) return true;
+  std::vector<double> v(recent_fits_.begin(), recent_fits_.end());
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return fit >= o.min_relative_fit * v[v.size() / 2];
+}
+
 bool Odometry::matchScan(const pcl::PointCloud<PointRadar>& raw, const Pose2& guess, const Pose2& prev_in_target, bool target_is_previous,
                          double dt, Pose2* estimate, int* rounds) {
   const auto& o = options_.scanning;
@@ -358,7 +389,8 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
       }
       step.doppler_motion = guess;
     }
-    for (int halving = 0; halving <= o.max_shift_halvings && !ok; ++halving) {
+    bool unfit = false;
+    for (int halving = 0; halving <= o.max_shift_halvings && !ok && !unfit; ++halving) {
       if (halving > 0) {
         const float s = o.power_shift * std::pow(0.5f, static_cast<float>(halving));
         if (!setMatcherPowerShift(*matcher_, s)) break;  // no power weights: nothing to halve
@@ -370,13 +402,24 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
         step.grid = g;
         step.power_shift = matcher_shift_ < 0 ? 0.f : matcher_shift_;
         Pose2 estimate;
+        // The fit is judged at the nominal settings only (scores grow with the grid): a scan that
+        // fits its target nowhere there is not retried, bigger cells would only blur it in.
+        const bool nominal = halving == 0 && g == o.grid;
         if (!matchScan(raw, guess, prev_in_keyframe, target_is_previous, dt, &estimate, &step.compensation_rounds)) {
           ++counters_.not_converged;
         } else if (!acceptScanMotion(estimate, dt, mid_time)) {
           ++counters_.rejected;
+        } else if (nominal && !acceptScanFit(matchFitPerPoint(*matcher_))) {
+          ++counters_.poor_fit;
+          unfit = true;
+          break;
         } else {
           motion = estimate;
           ok = true;
+          if (nominal && std::isfinite(matchFitPerPoint(*matcher_))) {
+            recent_fits_.push_back(matchFitPerPoint(*matcher_));
+            while (recent_fits_.size() > std::max<std::size_t>(o.fit_history, 1)) recent_fits_.pop_front();
+          }
           break;
         }
         if (g > o.max_grid) break;
@@ -402,11 +445,21 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
   last_accepted_motion_ = motion;
   last_dt_ = dt;
   // The next target: this scan at its reference time, with the velocity just estimated, unless
-  // the keyframe is kept (close enough, and this step matched).
+  // the keyframe is kept: this step matched and is close enough to it, or this step failed alone
+  // (a corrupt, empty or all-noise scan must not become the target of the next one; a second
+  // failure in a row means the keyframe itself no longer fits, e.g. the view changed).
+  // The next target: this scan at its reference time, with the velocity just estimated, unless
+  // the keyframe is kept: this step matched and is close enough to it, or this step failed alone
+  // (a corrupt, empty or all-noise scan must not become the target of the next one; a second
+  // failure in a row means the keyframe itself no longer fits, e.g. the view changed).
   const Pose2 from_keyframe = between(keyframe_pose_, step.pose);
   const bool matched = step.status == StepStatus::Matched || step.status == StepStatus::Retried;
-  if (!(o.keyframe_distance > 0) || !matched || from_keyframe.head<2>().norm() >= o.keyframe_distance ||
-      std::abs(from_keyframe.z()) >= o.keyframe_rotation) {
+  consecutive_failures_ = matched ? 0 : consecutive_failures_ + 1;
+  const bool keyframe_usable = target_ && target_->size() >= o.min_points;
+  const bool replace = matched ? !(o.keyframe_distance > 0) || from_keyframe.head<2>().norm() >= o.keyframe_distance ||
+                                     std::abs(from_keyframe.z()) >= o.keyframe_rotation
+                               : consecutive_failures_ >= 2 || !keyframe_usable;
+  if (replace) {
     keyframe_pose_ = step.pose;
     keyframe_stamp_us_ = step.timestamp_us;
     previous_raw_ = scan.cloud;

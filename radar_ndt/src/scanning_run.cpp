@@ -42,10 +42,12 @@ ScanningSequence::ScanningSequence(const std::string& dir, ScanFormat format, co
   if (format == ScanFormat::Oxford) {
     const std::string index = dir + "/radar.timestamps";
     if (!exists(index)) throw IoError(index, "missing: an Oxford-layout sequence has radar.timestamps and radar/<stamp>.png");
-    for (const OxfordStamp& s : readOxfordTimestamps(index)) {
+    std::vector<IoError> skipped;
+    for (const OxfordStamp& s : readOxfordTimestamps(index, &skipped)) {
       stamps_.push_back(s.stamp);
       paths_.push_back(dir + "/radar/" + std::to_string(s.stamp) + ".png");
     }
+    for (const IoError& e : skipped) index_problems_.push_back(e.what());
     const std::string gt_path = dir + "/gt/radar_odometry.csv";
     if (exists(gt_path)) {
       const std::vector<OxfordRelativePose> rows = readOxfordRadarOdometry(gt_path);
@@ -65,14 +67,14 @@ ScanningSequence::ScanningSequence(const std::string& dir, ScanFormat format, co
   } else {
     const std::string index = dir + "/Navtech_Polar.txt";
     if (!exists(index)) throw IoError(index, "missing: a RADIATE sequence has Navtech_Polar.txt and Navtech_Polar/<frame>.png");
-    for (const RadiateFrame& f : readRadiateFrameTimes(index)) {
-      if (!stamps_.empty() && f.stamp_us <= stamps_.back())
-        throw IoError(index, "frame " + std::to_string(f.frame) + ": time not after the previous frame's");
+    std::vector<IoError> skipped;
+    for (const RadiateFrame& f : readRadiateFrameTimes(index, &skipped)) {
       char name[32];
       std::snprintf(name, sizeof name, "%06d.png", f.frame);
       stamps_.push_back(f.stamp_us);
       paths_.push_back(dir + "/Navtech_Polar/" + name);
     }
+    for (const IoError& e : skipped) index_problems_.push_back(e.what());
   }
   if (stamps_.empty()) throw IoError(dir, "the sequence lists no scans");
   std::vector<double> d;
@@ -187,6 +189,7 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
   Odometry odometry(options.odometry, matcher);
 
   ScanningRunResult result;
+  result.problems = sequence.indexProblems();
   result.sequence = sequence.name();
   result.format = sequence.format();
   result.period_s = sequence.periodSeconds();
@@ -199,11 +202,13 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
                       [&sequence, &front_end, k, voxel]() { return prepare(sequence, front_end, k, voxel); });
   };
   if (n > 0) next = launch(options.start);
+  std::int64_t last_stamp_us = 0;  // of the last scan that was matched (or dead-reckoned)
   for (std::size_t k = options.start; k < end; ++k) {
     Prepared p = next.get();
     if (k + 1 < end) next = launch(k + 1);
     if (!p.cloud) {
-      result.problems.push_back("scan " + std::to_string(k) + ": " + p.problem);
+      result.problems.push_back("scan " + std::to_string(k) + ": " + p.problem + " (bridged with the motion model)");
+      odometry.bridge(sequence.stamp(k));
     } else {
       const OdometryStep& step = odometry.addScan(ScanFrame{sequence.stamp(k), p.cloud});
       read.push_back(p.read_ms);
@@ -211,7 +216,17 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
       match.push_back(step.match_ms);
       total.push_back(p.read_ms + p.front_end_ms + step.match_ms);
       points.push_back(static_cast<double>(p.cloud->size()));
-      if (on_scan && odometry.lastCloud()) on_scan(k, step, *odometry.lastCloud());
+      if (on_scan && step.status != StepStatus::Skipped) {
+        // This scan at its reference time (lastCloud() is the keyframe, which may be an older scan).
+        pcl::PointCloud<PointRadar> at_reference;
+        const double dt = 1e-6 * static_cast<double>(step.timestamp_us - last_stamp_us);
+        if (options.odometry.scanning.motion_compensation && step.status != StepStatus::First && dt > 0)
+          compensateMotion(*p.cloud, velocityOf(step.motion, dt), at_reference);
+        else
+          at_reference = *p.cloud;
+        on_scan(k, step, at_reference);
+      }
+      if (step.status != StepStatus::Skipped) last_stamp_us = step.timestamp_us;
     }
     if (progress) progress(k - options.start + 1, n);
   }

@@ -48,6 +48,11 @@ void setMatcherGrid(RadarRegistration& matcher, double grid);
 /// its fitness score (mean squared nearest-neighbour distance).
 double matchScore(RadarRegistration& matcher);
 
+/// Ours only: the last align()'s NDT score per source point, comparable between scans of one
+/// sequence (a scan that fits its target nowhere, e.g. all noise, scores a fraction of the usual).
+/// NaN for other matchers.
+double matchFitPerPoint(RadarRegistration& matcher);
+
 /// Sets the power shift s of eq. (1)-(2) when the matcher is ours; false (nothing changed) for
 /// matchers without power weights (PCL's NDT and ICP).
 bool setMatcherPowerShift(RadarRegistration& matcher, float shift);

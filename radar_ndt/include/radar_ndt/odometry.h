@@ -17,6 +17,7 @@
 // with the current velocity estimate (motion-distortion compensation), iterated with the match.
 
 #include <cstdint>
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -55,12 +56,19 @@ struct ScanningOdometryOptions {
   /// The second scan has no velocity to extrapolate: it is matched from each of these forward
   /// displacements (m) and the best-scoring result is its guess. Empty: from zero motion.
   std::vector<double> start_hypotheses{0.0, 1.5, 3.0, 4.5, 6.0, -1.5};
-  /// Keyframes (beyond the paper): a scan is matched to the last keyframe, which is replaced once
-  /// the vehicle is this far (m) or turned this much (rad) from it, or a match failed. Matching
-  /// errors then add up per keyframe, not per scan. 0: scan to scan, as the paper. 8 m: measured
+  /// Keyframes (beyond the paper): a scan is matched to the last keyframe, which is replaced by a
+  /// matched scan this far (m) or turned this much (rad) from it, or after two failed matches in a
+  /// row (one failed scan is never made the target: it may be corrupt or all noise). Matching errors
+  /// then add up per keyframe, not per scan. 0: scan to scan, as the paper. 8 m: measured
   /// on simulated Oxford drives (README, "Scanning radar odometry").
   double keyframe_distance = 8.0;
   double keyframe_rotation = 0.1;
+  /// A match whose NDT score per point is below this fraction of the median of the last accepted
+  /// matches (ours only) is rejected like one that breaks the motion prior: a scan that is all
+  /// noise or interference converges somewhere near the guess but fits its target nowhere
+  /// (measured: 0.2 of the usual on a simulated all-noise scan). 0: off.
+  double min_relative_fit = 0.4;
+  std::size_t fit_history = 15;  ///< accepted matches the median is taken over (checked from 5 on)
 };
 
 struct OdometryOptions {
@@ -97,6 +105,7 @@ enum class StepStatus {
   Fallback,  ///< every attempt failed: ego-velocity integral (scanning: constant velocity)
   DeadReckoned,  ///< no matcher (Method::Doppler), or too few points to match (scanning: constant velocity)
   Skipped,   ///< timestamp not after the previous cycle's: no pose
+  Bridged,   ///< the scan or cycle could not be read (bridge()): pose from the motion model, not matched
 };
 const char* toString(StepStatus s);
 
@@ -131,12 +140,14 @@ struct ScanFrame {
 void compensateMotion(const pcl::PointCloud<PointRadar>& in, const Pose2& velocity, pcl::PointCloud<PointRadar>& out);
 
 struct OdometryCounters {
-  std::size_t cycles = 0, matched = 0, retried = 0, fallbacks = 0, dead_reckoned = 0, skipped = 0, stale_velocity = 0;
+  std::size_t cycles = 0, matched = 0, retried = 0, fallbacks = 0, dead_reckoned = 0, skipped = 0, stale_velocity = 0,
+              bridged = 0;
   // Scanning only:
   std::size_t shift_halved = 0;   ///< steps whose accepted match (or fallback) needed s halved
   std::size_t slow = 0;           ///< steps matched at the slow-speed grid
   std::size_t not_converged = 0;  ///< attempts that did not converge
   std::size_t rejected = 0;       ///< converged attempts rejected by the motion prior
+  std::size_t poor_fit = 0;       ///< converged attempts rejected for a fit far below recent matches
 };
 
 class Odometry {
@@ -152,21 +163,29 @@ class Odometry {
   /// cloud is planar, in the vehicle frame at the scan's reference time.
   const OdometryStep& addScan(const ScanFrame& scan);
 
+  /// A scan or cycle at `timestamp_us` that could not be read (corrupt or missing file): records a
+  /// Bridged step whose pose continues the last step at its velocity. Matching state is untouched,
+  /// so the next scan is matched against the last good one across the gap. Before the first step,
+  /// or at a timestamp not after the last one, the step is Skipped (no pose).
+  const OdometryStep& bridge(std::int64_t timestamp_us);
+
   const std::vector<OdometryStep>& steps() const { return steps_; }
   /// What the next step matches against: the last scan at its reference time (addScan, motion-
   /// compensated with its estimated velocity when compensation is on), or the last submap (add).
   pcl::PointCloud<PointRadar>::ConstPtr lastCloud() const { return target_; }
   const OdometryCounters& counters() const { return counters_; }
   const OdometryOptions& options() const { return options_; }
-  /// Poses of all non-skipped steps, stamps in seconds.
+  /// Poses of all non-skipped steps (bridged ones included), stamps in seconds.
   Trajectory trajectory() const;
 
  private:
-  /// The last step that was not skipped (nullptr before the first).
+  /// The last step that was processed: neither skipped nor bridged (nullptr before the first).
   const OdometryStep* previousStep() const;
   /// Records `step` as skipped (its timestamp does not advance past `prev`'s).
   const OdometryStep& addSkipped(OdometryStep step, const OdometryStep& prev);
   bool acceptScanMotion(const Pose2& motion, double dt, double mid_time) const;
+  /// The last match fits its target about as well as recent accepted ones (min_relative_fit).
+  bool acceptScanFit(double fit) const;
   /// One attempt at the current matcher settings: match, re-compensate, match again (≤ rounds).
   /// `guess` and `*estimate`: the motion from the previous scan; `prev_in_target`: the previous
   /// scan's pose in the target's (keyframe's) frame, zero when `target_is_previous` (then the
@@ -192,13 +211,15 @@ class Odometry {
   float matcher_shift_ = -1;
   pcl::PointCloud<PointRadar>::Ptr compensated_;  ///< scratch: the source of the last attempt
   pcl::PointCloud<PointRadar>::ConstPtr previous_raw_;  ///< the last scan as given, to re-compensate
-  bool target_replaced_ = false;
+  bool target_replaced_ = false;  ///< the matcher holds a re-compensated copy of target_
   bool target_compensated_ = false;  ///< target_ was moved to its reference time (not the first scan)
   Eigen::Vector3d trusted_velocity_ = Eigen::Vector3d::Zero();  ///< of the last accepted match
   double trusted_mid_time_ = 0;  ///< s, the middle of that match's interval
   bool have_trusted_velocity_ = false;
   Pose2 keyframe_pose_ = Pose2::Zero();  ///< pose of the scan in target_
-  std::int64_t keyframe_stamp_us_ = 0;   ///< and its timestamp  ///< the matcher holds a re-compensated copy of target_
+  std::int64_t keyframe_stamp_us_ = 0;   ///< and its timestamp
+  int consecutive_failures_ = 0;  ///< scanning: steps in a row that were not matched
+  std::deque<double> recent_fits_;  ///< scanning: fit per point of the last accepted nominal matches
 };
 
 }  // namespace radar_ndt

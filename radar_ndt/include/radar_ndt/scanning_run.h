@@ -40,7 +40,8 @@ class ScanningSequence {
     RadiatePolarOptions radiate;
   };
   /// Reads the index (timestamps, frame list) and, for oxford, the ground truth when present.
-  /// Throws IoError naming the file when the index is missing or malformed.
+  /// Throws IoError naming the file when the index is missing or lists no scan; bad index lines
+  /// (unparsable, duplicated or out-of-order timestamps) are left out and listed in indexProblems().
   ScanningSequence(const std::string& dir, ScanFormat format, const Options& options);
   ScanningSequence(const std::string& dir, ScanFormat format) : ScanningSequence(dir, format, Options()) {}
 
@@ -57,6 +58,8 @@ class ScanningSequence {
   /// SE(2) ground truth in the vehicle frame (x forward, y left), seconds; the first pose is the
   /// first scan the ground truth covers. Empty when the sequence has none.
   const Trajectory& groundTruth() const { return ground_truth_; }
+  /// Index lines that were left out, each naming the file, the line and the problem.
+  const std::vector<std::string>& indexProblems() const { return index_problems_; }
 
  private:
   std::string dir_, name_;
@@ -66,6 +69,7 @@ class ScanningSequence {
   std::vector<std::string> paths_;
   double period_s_ = 0;
   Trajectory ground_truth_;
+  std::vector<std::string> index_problems_;
 };
 
 struct ScanningRunOptions {
@@ -103,7 +107,8 @@ struct ScanningRunResult {
   double wall_s = 0;            ///< the whole run, wall clock
   double scans_per_second = 0;  ///< end to end, with the prefetch thread
   double median_points = 0;     ///< thresholded points per scan
-  std::vector<std::string> problems;  ///< scans that could not be read, and why
+  /// Index lines left out, and scans that could not be read (bridged), each with the reason.
+  std::vector<std::string> problems;
 };
 
 /// Called after each scan with its index, its step and its points at the scan's reference time

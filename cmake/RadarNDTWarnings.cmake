@@ -5,4 +5,8 @@ function(radar_ndt_set_warnings target)
   if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
     target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic)
   endif()
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    # PointRadar uses PCL's anonymous-union layout (PCL_ADD_POINT4D), which clang flags as GNU.
+    target_compile_options(${target} PRIVATE -Wno-gnu-anonymous-struct -Wno-nested-anon-types)
+  endif()
 endfunction()

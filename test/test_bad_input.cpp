@@ -1,6 +1,6 @@
 // The bad-input suite: for every reader, a table of malformed files, each of which must give an
 // IoError whose message names the file and the problem (never a crash, a huge allocation or a
-// silently wrong result), plus the inputs the fuzzers (fuzz/) found, as regression tests. More
+// silently wrong result), plus the inputs the fuzzers (test/fuzz/) found, as regression tests. More
 // cases per reader live beside each reader's own tests (test_trajectory_io, test_nuscenes,
 // test_polar_scan); this file holds the ones a single table covers across readers.
 #include <cmath>
@@ -189,7 +189,7 @@ TEST(BadInput, PointFilesDropAndCountNonFinitePointsAndReadEmptyScans) {
 }
 
 TEST(BadInput, FuzzerFindingsStayFixed) {
-  // Inputs the fuzzers found (fuzz/run.sh), kept in test/data/fuzz_regressions: each must give
+  // Inputs the fuzzers found (test/fuzz/run.sh), kept in test/data/fuzz_regressions: each must give
   // a result or an IoError naming the file, under every reader that takes its kind of file.
   const std::string dir = std::string(RADAR_NDT_TEST_DATA) + "/fuzz_regressions";
   // pcl::PCDReader read freed memory on this header (heap-use-after-free under ASan).

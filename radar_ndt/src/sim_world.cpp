@@ -14,7 +14,9 @@ namespace {
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 std::int64_t cellKey(long ix, long iy) {
-  return (static_cast<std::int64_t>(ix) << 32) ^ (static_cast<std::int64_t>(iy) & 0xffffffffLL);
+  // Packed as unsigned: shifting a negative signed value is undefined before C++20 (UBSan).
+  const std::uint64_t hi = static_cast<std::uint32_t>(ix), lo = static_cast<std::uint32_t>(iy);
+  return static_cast<std::int64_t>((hi << 32) | lo);
 }
 
 }  // namespace

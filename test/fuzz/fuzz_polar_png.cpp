@@ -1,8 +1,12 @@
 // libFuzzer target: Oxford and RADIATE polar PNGs (readOxfordPolarPng, readRadiatePolarPng).
-// The first input byte chooses the reader; the rest is the file. Width and azimuth-count checks
-// are off so the fuzzer reaches the row decoding behind them.
+// The first input byte chooses the reader (bit 0) and whether chunk CRCs are repaired (bit 1); the
+// rest is the file. Width and azimuth-count checks are off so the fuzzer reaches the row decoding
+// behind them.
 #include <cmath>
 #include <cstdint>
+#include <vector>
+
+#include <zlib.h>
 
 #include "fuzz_support.h"
 #include "radar_ndt/io/polar_scan.h"
@@ -22,12 +26,30 @@ void checkScan(const radar_ndt::PolarScan& s) {
   if (!(s.range_resolution > 0.0)) finding("non-positive range resolution");
 }
 
+/// Rewrites each chunk's CRC to match its bytes (where the chunk fits in the input), so that
+/// mutations inside IHDR and IDAT reach the decoder and our row parsing instead of stopping at
+/// libpng's CRC check. Bit 1 of the selector byte leaves the CRCs as they are.
+std::vector<std::uint8_t> withValidCrcs(const std::uint8_t* data, std::size_t size) {
+  std::vector<std::uint8_t> png(data, data + size);
+  std::size_t at = 8;  // after the signature
+  while (at + 12 <= png.size()) {
+    const std::size_t length = (std::size_t{png[at]} << 24) | (std::size_t{png[at + 1]} << 16) | (std::size_t{png[at + 2]} << 8) | png[at + 3];
+    if (length > png.size() - at - 12) break;
+    const uLong crc = crc32(0L, png.data() + at + 4, static_cast<uInt>(4 + length));
+    for (int i = 0; i < 4; ++i) png[at + 8 + length + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(crc >> (24 - 8 * i));
+    at += 12 + length;
+  }
+  return png;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
   const bool radiate = (data[0] & 1) != 0;
-  const std::string path = radar_ndt::fuzz::writeBytes(radiate ? "000001.png" : "1547120000000000.png", data + 1, size - 1);
+  const char* name = radiate ? "000001.png" : "1547120000000000.png";
+  const std::vector<std::uint8_t> fixed = (data[0] & 2) != 0 ? std::vector<std::uint8_t>(data + 1, data + size) : withValidCrcs(data + 1, size - 1);
+  const std::string path = radar_ndt::fuzz::writeBytes(name, fixed.data(), fixed.size());
   radar_ndt::fuzz::readOrIoError(path, [&] {
     if (radiate) {
       radar_ndt::RadiatePolarOptions options;

@@ -370,7 +370,7 @@ int main(int argc, char** argv) {
       "oxford|radiate: one pose per scan, the vehicle at the scan's timestamp (the first azimuth's); each scan\n"
       "motion-compensated and matched to the last keyframe (every 8 m) from a constant-velocity guess, failures\n"
       "retried with the grid enlarged by 2.5 m, then with s halved; below 1.5 km/h the grid is 1.5 m.\n"
-      "Unreadable scans are reported and skipped.";
+      "Unreadable scans are reported and bridged with the motion model; bad index lines are reported and left out.";
   po::variables_map vm;
   const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
   if (rc >= 0) return rc;

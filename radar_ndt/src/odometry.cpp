@@ -55,7 +55,7 @@ void compensateMotion(const pcl::PointCloud<PointRadar>& in, const Pose2& veloci
   }
   for (auto& p : out) {
     if (!std::isfinite(p.time_offset)) continue;
-    const Entry& e = table[static_cast<std::size_t>(std::lround((p.time_offset - t_min) / kStep))];
+    const Entry& e = table[static_cast<std::size_t>((p.time_offset - t_min) / kStep + 0.5)];  // >= 0: round
     const double c = e.c, s = e.s, x = p.x, y = p.y;
     p.x = static_cast<float>(c * x - s * y + e.tx);
     p.y = static_cast<float>(s * x + c * y + e.ty);
@@ -207,7 +207,6 @@ const OdometryStep& Odometry::add(const ProcessedCycle& cycle) {
     ok = true;
   } else {
     t0 = detail::Clock::now();
-    pcl::PointCloud<PointRadar> aligned;
     for (int attempt = 0; attempt <= options_.max_retries && !ok; ++attempt) {
       const double g = options_.grid + options_.grid_step * attempt;
       if (attempt == 0)
@@ -222,7 +221,7 @@ const OdometryStep& Odometry::add(const ProcessedCycle& cycle) {
         // estimate must not carry over into the next attempt).
         if (options_.doppler_weights) weightByDoppler(*source, cycle.mountings, estimate, dt);
         matcher_->setInputSource(source);
-        matcher_->align(aligned, toMatrix4<float>(estimate));
+        matcher_->align(aligned_, toMatrix4<float>(estimate));
         converged = matcher_->hasConverged();
         if (!converged) break;
         estimate = toPose2(matcher_->getFinalTransformation());
@@ -282,7 +281,6 @@ bool Odometry::matchScan(const pcl::PointCloud<PointRadar>& raw, const Pose2& gu
   const int max_rounds = compensate ? std::max(1, o.max_compensation_rounds) : 1;
   Pose2 est = guess;  // the motion from the previous scan
   Eigen::Vector3d v = compensate ? velocityOf(guess, dt) : Eigen::Vector3d::Zero();
-  pcl::PointCloud<PointRadar> aligned;
   if (target_replaced_) {  // a previous attempt's re-compensated target: back to this step's own
     matcher_->setInputTarget(target_);
     target_replaced_ = false;
@@ -306,7 +304,7 @@ bool Odometry::matchScan(const pcl::PointCloud<PointRadar>& raw, const Pose2& gu
       // The caller's cloud is const; the matcher only reads its source.
       matcher_->setInputSource(pcl::PointCloud<PointRadar>::ConstPtr(&raw, [](const pcl::PointCloud<PointRadar>*) {}));
     }
-    matcher_->align(aligned, toMatrix4<float>(compose(prev_in_target, est)));
+    matcher_->align(aligned_, toMatrix4<float>(compose(prev_in_target, est)));
     if (!matcher_->hasConverged()) return false;
     est = between(prev_in_target, toPose2(matcher_->getFinalTransformation()));
     if (!est.allFinite()) return false;
@@ -343,6 +341,7 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
     previous_raw_ = scan.cloud;
     target_compensated_ = false;
     target_.reset(new pcl::PointCloud<PointRadar>(raw));
+    matcher_holds_target_ = false;
     for (auto& p : *target_) p.time_offset = 0.f;
     steps_.push_back(step);
     return steps_.back();
@@ -366,7 +365,10 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
     const double g0 = step.slow ? o.slow_grid : o.grid;
     if (matcher_grid_ != g0) setMatcherGrid(*matcher_, matcher_grid_ = g0);
     if (matcher_shift_ != o.power_shift && setMatcherPowerShift(*matcher_, o.power_shift)) matcher_shift_ = o.power_shift;
-    matcher_->setInputTarget(target_);  // matchScan may replace it with a re-compensated copy
+    // The target model is built once per keyframe, not once per scan: while the keyframe is kept
+    // the matcher still holds it (unless an attempt swapped in a re-compensated copy).
+    if (!matcher_holds_target_ || target_replaced_) matcher_->setInputTarget(target_);
+    matcher_holds_target_ = true;
     target_replaced_ = false;
     const bool target_is_previous = keyframe_stamp_us_ == prev->timestamp_us;
     const Pose2 prev_in_keyframe = target_is_previous ? Pose2::Zero() : between(keyframe_pose_, prev->pose);
@@ -375,10 +377,9 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
       // returns pull a match towards it. Start from each forward offset hypothesis and keep the
       // best-scoring result as the guess.
       double best = -std::numeric_limits<double>::infinity();
-      pcl::PointCloud<PointRadar> aligned;
       matcher_->setInputSource(scan.cloud);
       for (const double h : o.start_hypotheses) {
-        matcher_->align(aligned, toMatrix4<float>(Pose2(h, 0, 0)));
+        matcher_->align(aligned_, toMatrix4<float>(Pose2(h, 0, 0)));
         if (!matcher_->hasConverged()) continue;
         const Pose2 e = toPose2(matcher_->getFinalTransformation());
         const double score = matchScore(*matcher_);
@@ -448,10 +449,6 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
   // the keyframe is kept: this step matched and is close enough to it, or this step failed alone
   // (a corrupt, empty or all-noise scan must not become the target of the next one; a second
   // failure in a row means the keyframe itself no longer fits, e.g. the view changed).
-  // The next target: this scan at its reference time, with the velocity just estimated, unless
-  // the keyframe is kept: this step matched and is close enough to it, or this step failed alone
-  // (a corrupt, empty or all-noise scan must not become the target of the next one; a second
-  // failure in a row means the keyframe itself no longer fits, e.g. the view changed).
   const Pose2 from_keyframe = between(keyframe_pose_, step.pose);
   const bool matched = step.status == StepStatus::Matched || step.status == StepStatus::Retried;
   consecutive_failures_ = matched ? 0 : consecutive_failures_ + 1;
@@ -464,6 +461,7 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
     keyframe_stamp_us_ = step.timestamp_us;
     previous_raw_ = scan.cloud;
     target_.reset(new pcl::PointCloud<PointRadar>);
+    matcher_holds_target_ = false;
     if (o.motion_compensation)
       compensateMotion(raw, velocityOf(motion, dt), *target_);
     else
@@ -472,6 +470,7 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
   } else if (!target_compensated_ && o.motion_compensation && previous_raw_) {
     // The kept keyframe is the first scan: compensate it with the first velocity there is.
     target_.reset(new pcl::PointCloud<PointRadar>);
+    matcher_holds_target_ = false;
     compensateMotion(*previous_raw_, velocityOf(motion, dt), *target_);
     target_compensated_ = true;
   }

@@ -210,8 +210,10 @@ class Odometry {
   double matcher_grid_ = 0;
   float matcher_shift_ = -1;
   pcl::PointCloud<PointRadar>::Ptr compensated_;  ///< scratch: the source of the last attempt
+  pcl::PointCloud<PointRadar> aligned_;  ///< scratch: the matcher's output (unused; kept to reuse its memory)
   pcl::PointCloud<PointRadar>::ConstPtr previous_raw_;  ///< the last scan as given, to re-compensate
   bool target_replaced_ = false;  ///< the matcher holds a re-compensated copy of target_
+  bool matcher_holds_target_ = false;  ///< scanning: the matcher's target (and model) is target_ as it is
   bool target_compensated_ = false;  ///< target_ was moved to its reference time (not the first scan)
   Eigen::Vector3d trusted_velocity_ = Eigen::Vector3d::Zero();  ///< of the last accepted match
   double trusted_mid_time_ = 0;  ///< s, the middle of that match's interval

@@ -76,7 +76,7 @@ void setMatcherGrid(RadarRegistration& matcher, double grid) {
 double matchScore(RadarRegistration& matcher) {
   if (auto* ours = dynamic_cast<WeightedNDT2D<PointRadar, PointRadar>*>(&matcher)) return ours->getNdtScore();
   if (auto* ndt = dynamic_cast<pcl::NormalDistributionsTransform<PointRadar, PointRadar>*>(&matcher))
-    return ndt->getTransformationProbability();
+    return ndt->getTransformationLikelihood();
   return -matcher.getFitnessScore();
 }
 

@@ -155,9 +155,9 @@ int runScanningMode(const ScanningRunOptions& options, ScanFormat format, const 
               c.retried, c.fallbacks, c.cycles ? 100.0 * static_cast<double>(c.fallbacks) / static_cast<double>(c.cycles) : 0.0,
               c.shift_halved, c.slow, c.bridged, c.skipped, r.problems.size());
   std::printf("  ms per scan (median, one core): decode %.2f, front-end %.2f, match %.2f, total %.2f; end to end %.1f scans/s "
-              "(decode on a second thread), %.0fx real time\n",
+              "(%s), %.0fx real time\n",
               r.median_ms.read_ms, r.median_ms.front_end_ms, r.median_ms.match_ms, r.median_total_ms, r.scans_per_second,
-              j["real_time_factor"].get<double>());
+              options.prefetch ? "decode on a second thread" : "one thread", j["real_time_factor"].get<double>());
   if (report) std::cout << formatTable(*report);
   return 0;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <stdexcept>
 
@@ -15,9 +16,10 @@ double wrap2Pi(double a) {
   return a < 0 ? a + kTwoPi : a;
 }
 
-/// Polar covariance (σr along the beam, σθ across it) at range r and angle θ, through the Jacobian.
-void setPolarCovariance(PointRadar& p, double r, double theta, double sigma_r, double sigma_theta, double extra_var) {
-  const double c = std::cos(theta), s = std::sin(theta);
+/// Polar covariance (σr along the beam, σθ across it) at range r in direction (c, s) = (cos θ,
+/// sin θ), through the Jacobian.
+void setPolarCovariance(PointRadar& p, double r, double c, double s, double sigma_r, double sigma_theta,
+                        double extra_var) {
   const double vr = sigma_r * sigma_r, vt = r * r * sigma_theta * sigma_theta;
   p.cov_xx = static_cast<float>(c * c * vr + s * s * vt + extra_var);
   p.cov_xy = static_cast<float>(c * s * (vr - vt));
@@ -45,7 +47,7 @@ class AzimuthLookup {
     }
   }
 
-  /// θ in [0, 2π): rows a0, a1 and weight w of a1.
+  /// θ in [0, 2π): rows a0, a1 = next(a0) and weight w of a1.
   void find(double theta, int& a0, int& a1, float& w) const {
     int t = static_cast<int>(theta * table_size_ / kTwoPi);
     t = std::min(std::max(t, 0), table_size_ - 1);
@@ -53,15 +55,21 @@ class AzimuthLookup {
     while (k + 1 < n_ && sorted_[k + 1] <= theta) ++k;
     // k in [−1, n−1]: between sorted_[k] and sorted_[k+1], wrapping around 2π.
     const int k0 = k < 0 ? n_ - 1 : k;
-    const int k1 = k + 1 >= n_ ? 0 : k + 1;
+    const int k1 = k0 + 1 == n_ ? 0 : k0 + 1;
     double lo = sorted_[k0], hi = sorted_[k1];
-    double th = theta;
     if (k < 0) lo -= kTwoPi;
     if (k + 1 >= n_) hi += kTwoPi;
     const double span = hi - lo;
-    w = span > 0 ? static_cast<float>((th - lo) / span) : 0.0f;
+    w = span > 0 ? static_cast<float>((theta - lo) / span) : 0.0f;
     a0 = order_[k0];
     a1 = order_[k1];
+  }
+
+  /// The row after row `a` in angle order (wrapping): the a1 of every pixel whose a0 is `a`.
+  std::vector<std::uint16_t> nextRows() const {
+    std::vector<std::uint16_t> next(n_);
+    for (int k = 0; k < n_; ++k) next[order_[k]] = static_cast<std::uint16_t>(order_[k + 1 == n_ ? 0 : k + 1]);
+    return next;
   }
 
  private:
@@ -78,15 +86,19 @@ struct PowerThreshold::Geometry {
   int bins = 0;
   double range_resolution = 0.0, range_offset_bins = 0.0;
   CartesianImage layout;
-  std::vector<std::uint32_t> pixel;  ///< pixels inside the ring
-  std::vector<float> theta;          ///< its angle in [0, 2π)
-  // Bilinear sampling of each pixel, valid for scans with these azimuth angles (a dataset's
-  // angles repeat from scan to scan, so this is computed once per sequence).
+  // Bilinear sampling of each pixel inside the ring, valid for scans with these azimuth angles (a
+  // dataset's angles repeat from scan to scan, so this is computed once per sequence). Pixels are
+  // grouped by the polar block they sample, rows a0 and next[a0] × bins b0 and b0 + 1: block
+  // (a0, b0) holds pixels block_start[a0·blocks_per_row + b0] .. block_start[… + 1] − 1, in raster
+  // order within it. A block whose four samples are all at or below the threshold cannot give a
+  // point (bilinear values never exceed their largest sample), so compute() skips it whole.
   std::vector<double> angles;
-  std::vector<std::uint16_t> a0, a1;  ///< the azimuth rows around the pixel
-  std::vector<float> wa;              ///< weight of a1
-  std::vector<std::int32_t> b0;       ///< the lower range bin
-  std::vector<float> wb;              ///< weight of b0 + 1
+  int blocks_per_row = 0;
+  std::vector<std::uint16_t> next;         ///< per azimuth row: the row after it in angle order
+  std::vector<std::uint32_t> block_start;  ///< azimuths · blocks_per_row + 1 offsets
+  std::vector<std::uint32_t> pixel;        ///< row · size + col
+  std::vector<float> wa;                   ///< weight of row next[a0]
+  std::vector<float> wb;                   ///< weight of bin b0 + 1
 };
 
 PowerThreshold::PowerThreshold(const PowerThresholdOptions& options) : options_(options) {
@@ -112,38 +124,94 @@ const PowerThreshold::Geometry& PowerThreshold::geometry(const PolarScan& scan) 
   L.size = 2 * static_cast<int>(std::ceil(options_.max_range / L.resolution));
   const double max_r = std::min(options_.max_range, scan.maxRange());
   const AzimuthLookup lookup(scan);
+  g->next = lookup.nextRows();
   const int last_bin = scan.bins - 1;
+  // Blocks per row: up to the last bin the ring reaches (b0 <= bins − 2), not the whole row.
+  g->blocks_per_row = std::min(last_bin, static_cast<int>(max_r / scan.range_resolution - scan.range_offset_bins) + 2);
+  g->blocks_per_row = std::max(g->blocks_per_row, 1);
+  struct Sample {
+    std::uint32_t pixel, block;
+    float wa, wb;
+  };
+  std::vector<Sample> samples;
   for (int r = 0; r < L.size; ++r) {
     for (int c = 0; c < L.size; ++c) {
       const double x = L.x(r), y = L.y(c);
       const double range = std::hypot(x, y);
       if (range < options_.min_range || range > max_r) continue;
-      g->pixel.push_back(static_cast<std::uint32_t>(r * L.size + c));
       const float fb = std::max(0.0f, static_cast<float>(range / scan.range_resolution - scan.range_offset_bins));
-      const float theta = static_cast<float>(wrap2Pi(std::atan2(y, x)));
-      g->theta.push_back(theta);
       int a0, a1;
       float w;
-      lookup.find(theta, a0, a1, w);
-      int b0 = static_cast<int>(fb);
-      if (b0 >= last_bin) b0 = last_bin - 1;
-      g->a0.push_back(static_cast<std::uint16_t>(a0));
-      g->a1.push_back(static_cast<std::uint16_t>(a1));
-      g->wa.push_back(w);
-      g->b0.push_back(b0);
-      g->wb.push_back(std::min(1.0f, fb - b0));
+      lookup.find(wrap2Pi(std::atan2(y, x)), a0, a1, w);
+      const int b0 = std::min({static_cast<int>(fb), last_bin - 1, g->blocks_per_row - 1});
+      samples.push_back({static_cast<std::uint32_t>(r * L.size + c),
+                         static_cast<std::uint32_t>(a0 * g->blocks_per_row + b0), w, std::min(1.0f, fb - b0)});
     }
+  }
+  // Counting sort by block (stable: raster order within a block).
+  const std::size_t n_blocks = static_cast<std::size_t>(scan.azimuths) * g->blocks_per_row;
+  g->block_start.assign(n_blocks + 1, 0);
+  for (const Sample& x : samples) ++g->block_start[x.block + 1];
+  for (std::size_t b = 0; b < n_blocks; ++b) g->block_start[b + 1] += g->block_start[b];
+  std::vector<std::uint32_t> fill(g->block_start.begin(), g->block_start.end() - 1);
+  g->pixel.resize(samples.size());
+  g->wa.resize(samples.size());
+  g->wb.resize(samples.size());
+  for (const Sample& x : samples) {
+    const std::uint32_t i = fill[x.block]++;
+    g->pixel[i] = x.pixel;
+    g->wa[i] = x.wa;
+    g->wb[i] = x.wb;
   }
   geometry_ = g;
   return *geometry_;
 }
 
 namespace {
-/// Bilinear power (0..1) of geometry pixel i.
+/// Calls f(i, r0 + b0, r1 + b0, a0) for the geometry's pixels i of every block (a0, b0), row by
+/// row (r0, r1: rows a0 and next[a0]); with `threshold` (power 0..1) only for blocks with a sample
+/// above it. The block test runs over a whole row at a time (byte maxima the compiler vectorises),
+/// then visits the marked blocks, eight at a time skipped while none is marked.
+template <typename G, typename F>
+void forEachBlockPixel(const G& g, const PolarScan& scan, const float* threshold, F&& f) {
+  const int nb = g.blocks_per_row;
+  // A sample v passes when v / 255 > threshold, exactly as samplePixel's result is tested; that
+  // is monotone in v, so a block can pass iff its largest sample exceeds `last_failing`.
+  int last_failing = -1;
+  if (threshold)
+    while (last_failing < 255 && !(static_cast<float>(last_failing + 1) * (1.0f / 255.0f) > *threshold)) ++last_failing;
+  std::vector<std::uint8_t> hot(static_cast<std::size_t>(nb) + 8, 0);  // zero padding past nb
+  for (int a = 0; a < scan.azimuths; ++a) {
+    const std::uint32_t* start = g.block_start.data() + static_cast<std::size_t>(a) * nb;
+    const std::uint8_t* r0 = scan.row(a);
+    const std::uint8_t* r1 = scan.row(g.next[a]);
+    auto visit = [&](int b) {
+      for (std::uint32_t i = start[b], end = start[b + 1]; i < end; ++i) f(i, r0 + b, r1 + b, a);
+    };
+    if (!threshold) {
+      for (int b = 0; b < nb; ++b) visit(b);
+      continue;
+    }
+    if (last_failing >= 255) continue;
+    const auto limit = static_cast<std::uint8_t>(last_failing < 0 ? 0 : last_failing);
+    const bool all = last_failing < 0;
+    for (int b = 0; b < nb; ++b) {
+      const std::uint8_t m = std::max(std::max(r0[b], r0[b + 1]), std::max(r1[b], r1[b + 1]));
+      hot[static_cast<std::size_t>(b)] = static_cast<std::uint8_t>(all || m > limit);
+    }
+    for (int b = 0; b < nb; b += 8) {
+      std::uint64_t word;
+      std::memcpy(&word, hot.data() + b, sizeof(word));
+      if (word == 0) continue;
+      for (int j = b; j < b + 8 && j < nb; ++j)
+        if (hot[static_cast<std::size_t>(j)]) visit(j);
+    }
+  }
+}
+
+/// Bilinear power (0..1) of geometry pixel i between rows r0, r1 (each at the pixel's bin b0).
 template <typename G>
-inline float samplePixel(const G& g, const PolarScan& scan, std::size_t i) {
-  const std::uint8_t* r0 = scan.row(g.a0[i]) + g.b0[i];
-  const std::uint8_t* r1 = scan.row(g.a1[i]) + g.b0[i];
+inline float samplePixel(const G& g, const std::uint8_t* r0, const std::uint8_t* r1, std::uint32_t i) {
   const float wb = g.wb[i];
   const float v0 = r0[0] + wb * (r0[1] - r0[0]);
   const float v1 = r1[0] + wb * (r1[1] - r1[0]);
@@ -155,7 +223,9 @@ CartesianImage PowerThreshold::cartesianImage(const PolarScan& scan) const {
   const Geometry& g = geometry(scan);
   CartesianImage img = g.layout;
   img.power.assign(static_cast<std::size_t>(img.size) * img.size, -1.0f);
-  for (std::size_t i = 0; i < g.pixel.size(); ++i) img.power[g.pixel[i]] = samplePixel(g, scan, i);
+  forEachBlockPixel(g, scan, nullptr, [&](std::uint32_t i, const std::uint8_t* r0, const std::uint8_t* r1, int) {
+    img.power[g.pixel[i]] = samplePixel(g, r0, r1, i);
+  });
   return img;
 }
 
@@ -165,25 +235,28 @@ void PowerThreshold::compute(const PolarScan& scan, pcl::PointCloud<PointRadar>&
   const double sigma_theta = options_.beam_width_deg * M_PI / 180.0 / 2.355;  // FWHM → σ
   const double sigma_r = scan.range_resolution;
   if (options_.cartesian) {
-    // The image is never materialised: each pixel is sampled and kept if above the threshold.
+    // The image is never materialised: each pixel of a block that can pass is sampled and kept if
+    // above the threshold. Points come out block by block (azimuth row, then range bin).
     const Geometry& g = geometry(scan);
     const CartesianImage& img = g.layout;
     const double pixel_var = img.resolution * img.resolution / 12.0;
-    for (std::size_t i = 0; i < g.pixel.size(); ++i) {
-      const float p = samplePixel(g, scan, i);
-      if (!(p > options_.threshold)) continue;
+    const float threshold = options_.threshold;
+    forEachBlockPixel(g, scan, &threshold, [&](std::uint32_t i, const std::uint8_t* r0, const std::uint8_t* r1, int a0) {
+      const float p = samplePixel(g, r0, r1, i);
+      if (!(p > threshold)) return;
       const int row = static_cast<int>(g.pixel[i]) / img.size, col = static_cast<int>(g.pixel[i]) % img.size;
+      const double x = img.x(row), y = img.y(col);
+      const double range = std::sqrt(x * x + y * y);  // > 0: min_range >= 0 and pixel centres are off the origin
       PointRadar pt;
-      pt.x = static_cast<float>(img.x(row));
-      pt.y = static_cast<float>(img.y(col));
+      pt.x = static_cast<float>(x);
+      pt.y = static_cast<float>(y);
       pt.z = 0.0f;
       pt.power = p;
-      const double range = std::hypot(img.x(row), img.y(col));
-      setPolarCovariance(pt, range, g.theta[i], sigma_r, sigma_theta, pixel_var);
-      const int a = g.wa[i] < 0.5f ? g.a0[i] : g.a1[i];
+      setPolarCovariance(pt, range, x / range, y / range, sigma_r, sigma_theta, pixel_var);
+      const int a = g.wa[i] < 0.5f ? a0 : g.next[a0];
       pt.time_offset = static_cast<float>((scan.stamp_us[a] - scan.stamp) * 1e-6);
       out.push_back(pt);
-    }
+    });
   } else {
     for (int a = 0; a < scan.azimuths; ++a) {
       const std::uint8_t* row = scan.row(a);
@@ -199,7 +272,7 @@ void PowerThreshold::compute(const PolarScan& scan, pcl::PointCloud<PointRadar>&
         pt.y = static_cast<float>(range * s);
         pt.z = 0.0f;
         pt.power = row[b] / 255.0f;
-        setPolarCovariance(pt, range, scan.angle[a], sigma_r, sigma_theta, 0.0);
+        setPolarCovariance(pt, range, c, s, sigma_r, sigma_theta, 0.0);
         pt.time_offset = dt;
         out.push_back(pt);
       }

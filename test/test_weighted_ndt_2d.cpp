@@ -10,6 +10,7 @@
 #include <pcl/registration/ndt.h>
 
 #include "radar_ndt/registration/weighted_ndt_2d.h"
+#include "radar_ndt/registration/impl/weighted_ndt_2d.hpp"  // detail::expNegative
 #include "radar_ndt/se2.h"
 #include "radar_ndt/synthetic_scan.h"
 
@@ -365,4 +366,51 @@ TEST(WeightedNDT2D, SourceVoxelMergeKeepsTheAnswer) {
     EXPECT_LT(std::abs(a.pose.z() - b.pose.z()) / kDeg, 0.02) << "seed " << seed;
     expectClose(a.pose, pair.source_in_target, 0.02, 0.1);
   }
+}
+
+// The cell index answers the same through its dense table (compact keys, after finalize()) as
+// through the hash (sparse keys, or after a later add()).
+TEST(CellIndexHash, DenseTableAgreesWithTheHash) {
+  auto fill = [](detail::CellIndexHash& h, int spread) {
+    int cell = 0;
+    for (int iy = -20; iy <= 20; iy += 2)
+      for (int ix = -30; ix <= 30; ix += 3) h.add(ix * spread, iy, cell++);
+  };
+  for (const int spread : {1, 100000}) {  // 1: a dense table is built; 100000: too sparse for one
+    detail::CellIndexHash hashed, dense;
+    fill(hashed, spread);
+    fill(dense, spread);
+    dense.finalize();
+    if (spread == 1) {
+      EXPECT_GT(dense.memoryBytes(), hashed.memoryBytes());
+    } else {
+      EXPECT_EQ(dense.memoryBytes(), hashed.memoryBytes());
+    }
+    for (int iy = -25; iy <= 25; ++iy)
+      for (int ix = -40; ix <= 40; ++ix) {
+        const std::int32_t* a = hashed.find(ix * spread, iy);
+        const std::int32_t* b = dense.find(ix * spread, iy);
+        ASSERT_EQ(a == nullptr, b == nullptr) << ix << "," << iy;
+        if (a) {
+          for (int k = 0; k < 4; ++k) EXPECT_EQ(a[k], b[k]);
+        }
+      }
+    // A key added after finalize() must be found (the dense table is dropped, not left stale).
+    dense.add(1, 1, 999);
+    const std::int32_t* added = dense.find(1, 1);
+    ASSERT_NE(added, nullptr);
+    EXPECT_EQ(added[0], 999);
+  }
+}
+
+TEST(WeightedNDT2D, InlineExpMatchesLibm) {
+  for (double x = -700.0; x <= 0.0; x += 0.37) {
+    const double e = std::exp(x);
+    EXPECT_NEAR(detail::expNegative(x), e, 1e-11 * e) << x;
+  }
+  EXPECT_EQ(detail::expNegative(0.0), 1.0);
+  // Below the range (and NaN): as at -700, tiny and finite, never NaN or a denormal trap.
+  EXPECT_EQ(detail::expNegative(-1e6), detail::expNegative(-700.0));
+  EXPECT_EQ(detail::expNegative(std::numeric_limits<double>::quiet_NaN()), detail::expNegative(-700.0));
+  EXPECT_GT(detail::expNegative(-700.0), 0.0);
 }

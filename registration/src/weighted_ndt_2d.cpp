@@ -11,8 +11,39 @@ namespace detail {
 
 void CellIndexHash::clear() {
   entries_.clear();
+  dense_.clear();
   size_ = 0;
   mask_ = 0;
+}
+
+void CellIndexHash::finalize() {
+  dense_.clear();
+  if (size_ == 0) return;
+  std::int64_t x0 = std::numeric_limits<std::int64_t>::max(), y0 = x0, x1 = std::numeric_limits<std::int64_t>::min(),
+               y1 = x1;
+  for (const Entry& e : entries_) {
+    if (e.slots[0] < 0) continue;
+    const auto ix = static_cast<std::int32_t>(static_cast<std::uint32_t>(e.key >> 32));
+    const auto iy = static_cast<std::int32_t>(static_cast<std::uint32_t>(e.key & 0xffffffffu));
+    x0 = std::min<std::int64_t>(x0, ix);
+    x1 = std::max<std::int64_t>(x1, ix);
+    y0 = std::min<std::int64_t>(y0, iy);
+    y1 = std::max<std::int64_t>(y1, iy);
+  }
+  const std::int64_t w = x1 - x0 + 1, h = y1 - y0 + 1;
+  const auto limit = static_cast<std::int64_t>(8 * size_ + 4096);  // at most ~8x the hash's entries
+  if (w > limit || h > limit || w * h > limit) return;
+  dense_.assign(static_cast<std::size_t>(w * h), Slots{{-1, -1, -1, -1}});
+  for (const Entry& e : entries_) {
+    if (e.slots[0] < 0) continue;
+    const auto ix = static_cast<std::int32_t>(static_cast<std::uint32_t>(e.key >> 32));
+    const auto iy = static_cast<std::int32_t>(static_cast<std::uint32_t>(e.key & 0xffffffffu));
+    std::copy(e.slots, e.slots + 4, dense_[static_cast<std::size_t>((iy - y0) * w + (ix - x0))].slots);
+  }
+  dense_x0_ = x0;
+  dense_y0_ = y0;
+  dense_w_ = w;
+  dense_h_ = h;
 }
 
 void CellIndexHash::reserve(std::size_t keys) {
@@ -31,6 +62,7 @@ void CellIndexHash::reserve(std::size_t keys) {
 }
 
 void CellIndexHash::add(std::int32_t ix, std::int32_t iy, std::int32_t cell) {
+  if (!dense_.empty()) dense_.clear();  // stale once a key changes; finalize() again to rebuild
   if (2 * (size_ + 1) > entries_.size()) reserve(2 * (size_ + 1));
   const std::uint64_t key = packKey(ix, iy);
   std::size_t h = hashKey(key) & mask_;
@@ -48,7 +80,9 @@ void CellIndexHash::add(std::int32_t ix, std::int32_t iy, std::int32_t cell) {
   // More than four cells on one key cannot happen: each key is shared by exactly a 2x2 block.
 }
 
-std::size_t CellIndexHash::memoryBytes() const { return entries_.capacity() * sizeof(Entry); }
+std::size_t CellIndexHash::memoryBytes() const {
+  return entries_.capacity() * sizeof(Entry) + dense_.capacity() * sizeof(Slots);
+}
 
 }  // namespace detail
 

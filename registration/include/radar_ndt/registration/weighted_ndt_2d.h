@@ -100,8 +100,18 @@ class CellIndexHash {
   void reserve(std::size_t keys);
   /// Adds `cell` to the slot list of key (ix, iy).
   void add(std::int32_t ix, std::int32_t iy, std::int32_t cell);
+  /// After the last add(): when the keys' bounding box is small against their count (a scan or a
+  /// submap, not a long sparse track), also lay them out in a dense row-major table, so find() is
+  /// an index computation instead of a hash probe. A later add() drops the table.
+  void finalize();
   /// The four slots of (ix, iy), or nullptr when the key is absent.
   inline const std::int32_t* find(std::int32_t ix, std::int32_t iy) const {
+    if (!dense_.empty()) {
+      const std::int64_t dx = static_cast<std::int64_t>(ix) - dense_x0_, dy = static_cast<std::int64_t>(iy) - dense_y0_;
+      if (dx < 0 || dy < 0 || dx >= dense_w_ || dy >= dense_h_) return nullptr;
+      const std::int32_t* slots = dense_[static_cast<std::size_t>(dy * dense_w_ + dx)].slots;
+      return slots[0] >= 0 ? slots : nullptr;
+    }
     if (size_ == 0) return nullptr;
     const std::uint64_t key = packKey(ix, iy);
     std::size_t h = hashKey(key) & mask_;
@@ -121,9 +131,14 @@ class CellIndexHash {
     std::uint64_t key;
     std::int32_t slots[4];
   };
+  struct Slots {
+    std::int32_t slots[4];
+  };
   std::vector<Entry> entries_;
   std::size_t size_ = 0;
   std::size_t mask_ = 0;
+  std::vector<Slots> dense_;  ///< empty unless finalize() found the keys compact
+  std::int64_t dense_x0_ = 0, dense_y0_ = 0, dense_w_ = 0, dense_h_ = 0;
 };
 
 /// Open-addressing map from a packed 2D integer key to a dense index (0, 1, 2, … in order of first

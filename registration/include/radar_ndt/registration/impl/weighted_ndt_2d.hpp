@@ -65,13 +65,19 @@ inline bool usable(double x, double y, const Eigen::Vector3d& cov) {
 
 inline std::int32_t floorToInt(double v) { return static_cast<std::int32_t>(std::floor(v)); }
 
-/// exp(x) for x in [-16, 0] (the Gaussian scores), relative error below 1e-11: x·log2(e) split into
-/// an integer k and f in [-1/2, 1/2], 2^f by its Taylor series to degree 10, 2^k put in the
-/// exponent bits. Inline and about a third of libm's exp in this loop; a pure function, so results
-/// stay deterministic.
-inline double expNegative(double x) {
-  const double t = x * 1.4426950408889634;  // log2(e)
-  const double k = std::nearbyint(t);
+/// exp(x) for x in [-700, 0] (the Gaussian scores and the point weights), relative error below
+/// 1e-11; below -700 (and NaN) as at -700, about 1e-304: x·log2(e) split into an integer k and f
+/// in [-1/2, 1/2], 2^f by its Taylor series to degree 10, 2^k put in the exponent bits. Inline and
+/// about a third of libm's exp in this loop; a pure function, so results stay deterministic.
+#if defined(__GNUC__) || defined(__clang__)
+#define RADAR_NDT_ALWAYS_INLINE __attribute__((always_inline)) inline
+#else
+#define RADAR_NDT_ALWAYS_INLINE inline
+#endif
+RADAR_NDT_ALWAYS_INLINE double expNegative(double x) {
+  x = x >= -700.0 ? x : -700.0;  // branch-free, so the function stays inlined
+  const double t = x * 1.4426950408889634;  // log2(e), t <= 0
+  const double k = static_cast<double>(static_cast<std::int64_t>(t - 0.5));  // truncation: t rounded
   const double f = (t - k) * 0.6931471805599453;  // e^f = 2^(t - k)
   double p = 1.0 / 3628800.0;
   p = p * f + 1.0 / 362880.0;
@@ -280,6 +286,7 @@ void WeightedNDT2D<PointSource, PointTarget>::buildGrid(detail::NdtGrid& grid, d
       }
     }
   }
+  grid.index.finalize();
 }
 
 template <typename PointSource, typename PointTarget>
@@ -294,7 +301,7 @@ void WeightedNDT2D<PointSource, PointTarget>::prepareSource() {
     if (!detail::usable(p.x, p.y, cov)) continue;
     // eq. (2): w = max(p − s, 0) · exp(−½(σx + σy))
     const double w = std::max(0.0, static_cast<double>(detail::pointPower(p)) - power_shift_) *
-                     std::exp(-0.5 * (std::sqrt(cov.x()) + std::sqrt(cov.z())));
+                     detail::expNegative(-0.5 * (std::sqrt(cov.x()) + std::sqrt(cov.z())));
     if (!(w > 0.0) || !std::isfinite(w)) continue;
     source_points_.push_back({p.x, p.y, w});
   }

@@ -171,7 +171,31 @@ namespace {
 /// Calls f(i, r0 + b0, r1 + b0, a0) for the geometry's pixels i of every block (a0, b0), row by
 /// row (r0, r1: rows a0 and next[a0]); with `threshold` (power 0..1) only for blocks with a sample
 /// above it. The block test runs over a whole row at a time (byte maxima the compiler vectorises),
-/// then visits the marked blocks, eight at a time skipped while none is marked.
+/// then visits the marked blocks, found eight flags at a time.
+/// hot[b] = 1 when block b of rows r0, r1 (bins b, b + 1 of both) has a sample above `limit`,
+/// else 0, for b < n. Separate pointers and a plain loop, so the compiler vectorises it.
+void markHotBlocks(const std::uint8_t* __restrict r0, const std::uint8_t* __restrict r1, int n, std::uint8_t limit,
+                   std::uint8_t* __restrict hot) {
+  for (int b = 0; b < n; ++b) {
+    const std::uint8_t m0 = r0[b] > r0[b + 1] ? r0[b] : r0[b + 1];
+    const std::uint8_t m1 = r1[b] > r1[b + 1] ? r1[b] : r1[b + 1];
+    hot[b] = static_cast<std::uint8_t>((m0 > m1 ? m0 : m1) > limit);
+  }
+}
+
+inline int countTrailingZeros(std::uint64_t x) {  // x != 0
+#if defined(__GNUC__) || defined(__clang__)
+  return __builtin_ctzll(x);
+#else
+  int n = 0;
+  while (!(x & 1u)) {
+    x >>= 1;
+    ++n;
+  }
+  return n;
+#endif
+}
+
 template <typename G, typename F>
 void forEachBlockPixel(const G& g, const PolarScan& scan, const float* threshold, F&& f) {
   const int nb = g.blocks_per_row;
@@ -193,18 +217,15 @@ void forEachBlockPixel(const G& g, const PolarScan& scan, const float* threshold
       continue;
     }
     if (last_failing >= 255) continue;
-    const auto limit = static_cast<std::uint8_t>(last_failing < 0 ? 0 : last_failing);
-    const bool all = last_failing < 0;
-    for (int b = 0; b < nb; ++b) {
-      const std::uint8_t m = std::max(std::max(r0[b], r0[b + 1]), std::max(r1[b], r1[b + 1]));
-      hot[static_cast<std::size_t>(b)] = static_cast<std::uint8_t>(all || m > limit);
+    if (last_failing < 0) {  // every sample passes
+      for (int b = 0; b < nb; ++b) visit(b);
+      continue;
     }
+    markHotBlocks(r0, r1, nb, static_cast<std::uint8_t>(last_failing), hot.data());
     for (int b = 0; b < nb; b += 8) {
-      std::uint64_t word;
+      std::uint64_t word;  // one flag byte (0 or 1) per block b .. b + 7
       std::memcpy(&word, hot.data() + b, sizeof(word));
-      if (word == 0) continue;
-      for (int j = b; j < b + 8 && j < nb; ++j)
-        if (hot[static_cast<std::size_t>(j)]) visit(j);
+      for (; word != 0; word &= word - 1) visit(b + (countTrailingZeros(word) >> 3));
     }
   }
 }

@@ -269,6 +269,55 @@ TEST(ScanningOdometry, BusFillingTheViewTriggersTheFailureHandling) {
   EXPECT_NEAR(odometry.steps().back().pose.y(), 0.0, 0.5);
 }
 
+TEST(ScanningOdometry, AScenePoorerForGoodCausesNoFallbackStorm) {
+  // Two facades and poles, then from scan 8 on 1.5 times as many clutter returns that differ from scan to
+  // scan (rain, open land): every match still finds the facades, but fits its target only a
+  // fraction as well per point as before. The fit check must refuse the first of those (it looks
+  // like an all-noise scan) and then learn the new level: a few fallbacks, then matches again.
+  std::mt19937 rng(5);
+  std::normal_distribution<float> noise(0.f, 0.03f);
+  std::uniform_real_distribution<float> uniform(-55.f, 55.f);
+  std::vector<Eigen::Vector2d> world;
+  for (double x = -60; x <= 200; x += 0.5)
+    if (std::fmod(x + 60, 17.0) < 13.0) {
+      world.emplace_back(x, 9.0);
+      world.emplace_back(x, -11.0 + 0.02 * x);
+    }
+  for (double x = -60; x <= 200; x += 7.0) world.emplace_back(x, 6.5 + std::fmod(x, 3.0));
+  const double step = 2.0;
+  const int scans = 40, change = 8;
+  OdometryOptions options;
+  Odometry odometry(options, makeMatcher(Method::PwNdt, options.scanning.grid));
+  for (int k = 0; k < scans; ++k) {
+    pcl::PointCloud<PointRadar>::Ptr cloud(new pcl::PointCloud<PointRadar>);
+    for (const auto& w : world) {
+      const double x = w.x() - step * k, y = w.y();
+      if (std::hypot(x, y) > 60) continue;
+      PointRadar p(static_cast<float>(x) + noise(rng), static_cast<float>(y) + noise(rng), 0.f, 0.45f);
+      p.cov_xx = p.cov_yy = 0.01f;
+      cloud->push_back(p);
+    }
+    if (k >= change)
+      for (std::size_t i = 0, n = 3 * cloud->size() / 2; i < n; ++i) {
+        PointRadar p(uniform(rng), uniform(rng), 0.f, 0.45f);
+        p.cov_xx = p.cov_yy = 0.01f;
+        cloud->push_back(p);
+      }
+    odometry.addScan(ScanFrame{1000000 + 250000 * k, cloud});
+  }
+  const auto& steps = odometry.steps();
+  ASSERT_EQ(steps.size(), static_cast<std::size_t>(scans));
+  std::size_t failed_after_change = 0;
+  for (int k = change; k < scans; ++k) failed_after_change += steps[k].status == StepStatus::Fallback;
+  EXPECT_GE(odometry.counters().poor_fit, 1u) << "the first cluttered scan fits far worse than the clean ones";
+  EXPECT_LE(failed_after_change, options.scanning.fit_history / 2 + 1) << "the fit check did not adapt to the poorer scene";
+  for (int k = scans - 10; k < scans; ++k)
+    EXPECT_EQ(steps[k].status, StepStatus::Matched) << "step " << k << " long after the change";
+
+  EXPECT_NEAR(steps.back().pose.x(), step * (scans - 1), 1.0);
+  EXPECT_NEAR(steps.back().pose.y(), 0.0, 0.5);
+}
+
 TEST(ScanningOdometry, MotionCompensationHelpsOnAFastTurn) {
   const std::string dir = test::freshTempDir("scanning_turn");
   sim::SequenceOptions seq;

@@ -390,8 +390,20 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
       }
       step.doppler_motion = guess;
     }
-    bool unfit = false;
-    for (int halving = 0; halving <= o.max_shift_halvings && !ok && !unfit; ++halving) {
+    // One attempt at the matcher's current settings from `from`: match, then the motion prior.
+    auto attempt = [&](const Pose2& from, Pose2* estimate) {
+      if (!matchScan(raw, from, prev_in_keyframe, target_is_previous, dt, estimate, &step.compensation_rounds)) {
+        ++counters_.not_converged;
+        return false;
+      }
+      if (!acceptScanMotion(*estimate, dt, mid_time)) {
+        ++counters_.rejected;
+        return false;
+      }
+      return true;
+    };
+    bool give_up = false;  // the ladder stops: a poor fit, or a retried candidate that did not hold
+    for (int halving = 0; halving <= o.max_shift_halvings && !ok && !give_up; ++halving) {
       if (halving > 0) {
         const float s = o.power_shift * std::pow(0.5f, static_cast<float>(halving));
         if (!setMatcherPowerShift(*matcher_, s)) break;  // no power weights: nothing to halve
@@ -402,63 +414,51 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
         ++step.attempts;
         step.grid = g;
         step.power_shift = matcher_shift_ < 0 ? 0.f : matcher_shift_;
-        Pose2 estimate;
         // The fit is judged at the nominal settings only (scores grow with the grid and with the
         // power shift): a scan that fits its target nowhere there is not retried, bigger cells
         // would only blur it in. Slow steps (their own small grid) are not judged.
         const bool nominal = halving == 0 && g == o.grid;
-        if (!matchScan(raw, guess, prev_in_keyframe, target_is_previous, dt, &estimate, &step.compensation_rounds)) {
-          ++counters_.not_converged;
-          if (g > o.max_grid) break;
-          continue;
-        }
-        if (!acceptScanMotion(estimate, dt, mid_time)) {
-          ++counters_.rejected;
-          if (g > o.max_grid) break;
-          continue;
-        }
-        if (!nominal && !step.slow && std::isfinite(matchFitPerPoint(*matcher_))) {
-          // A retried candidate is where the ladder found something the motion prior allows
-          // after the nominal match was refused, which is weak evidence: a bus passing alongside
-          // gives one at some grid or power shift (measured on simulated drives: most retried
-          // matches were wrong by 0.2-0.7 m and carried a yaw error on through the fallbacks
-          // after them). It is refined at the nominal settings, where its fit can be judged
-          // against recent matches, and the refined match must pass both checks; otherwise the
-          // step falls back.
-          setMatcherGrid(*matcher_, matcher_grid_ = o.grid);
-          if (setMatcherPowerShift(*matcher_, o.power_shift)) matcher_shift_ = o.power_shift;
-          ++step.attempts;
-          const Pose2 candidate = estimate;
-          if (!matchScan(raw, candidate, prev_in_keyframe, target_is_previous, dt, &estimate, &step.compensation_rounds)) {
-            ++counters_.not_converged;
-            unfit = true;
-            break;
+        Pose2 estimate;
+        if (attempt(guess, &estimate)) {
+          double fit = matchFitPerPoint(*matcher_);  // NaN: not ours, nothing to judge
+          if (!nominal && !step.slow && std::isfinite(fit)) {
+            // A retried candidate is where the ladder found something the motion prior allows
+            // after the nominal match was refused, which is weak evidence: a bus passing
+            // alongside gives one at some grid or power shift (measured on simulated drives:
+            // most retried matches were wrong by 0.2-0.7 m and carried a yaw error on through
+            // the fallbacks after them). It is refined at the nominal settings, where its fit can
+            // be judged against recent matches, and the refined match must pass both checks;
+            // otherwise the step falls back.
+            setMatcherGrid(*matcher_, matcher_grid_ = o.grid);
+            if (setMatcherPowerShift(*matcher_, o.power_shift)) matcher_shift_ = o.power_shift;
+            ++step.attempts;
+            const Pose2 candidate = estimate;
+            if (!attempt(candidate, &estimate)) {
+              give_up = true;
+              break;
+            }
+            fit = matchFitPerPoint(*matcher_);
           }
-          if (!acceptScanMotion(estimate, dt, mid_time)) {
-            ++counters_.rejected;
-            unfit = true;
-            break;
+          const bool judged = (nominal || !step.slow) && std::isfinite(fit);
+          if (judged) {
+            // Every judged fit enters the history, refused ones too: a scene that stays poorer
+            // than the last (open land after a city centre) lowers the median within
+            // fit_history / 2 scans instead of causing a fallback storm, while a passing bus
+            // (a few scans) leaves the median where it was. Judged before it is added.
+            const bool fits = acceptScanFit(fit);
+            recent_fits_.push_back(fit);
+            while (recent_fits_.size() > std::max<std::size_t>(o.fit_history, 1)) recent_fits_.pop_front();
+            if (!fits) {
+              ++counters_.poor_fit;
+              give_up = true;
+              break;
+            }
           }
-        }
-        const double fit = matchFitPerPoint(*matcher_);
-        const bool judged = (nominal || !step.slow) && std::isfinite(fit);
-        const bool fits = !judged || acceptScanFit(fit);
-        if (judged) {
-          // Every judged fit enters the history, refused ones too: a scene that stays poorer
-          // than the last (open land after a city centre) lowers the median within
-          // fit_history / 2 scans instead of causing a fallback storm, while a passing bus
-          // (a few scans) leaves the median where it was.
-          recent_fits_.push_back(fit);
-          while (recent_fits_.size() > std::max<std::size_t>(o.fit_history, 1)) recent_fits_.pop_front();
-        }
-        if (!fits) {
-          ++counters_.poor_fit;
-          unfit = true;
+          motion = estimate;
+          ok = true;
           break;
         }
-        motion = estimate;
-        ok = true;
-        break;
+        if (g > o.max_grid) break;
       }
     }
     if (ok) {

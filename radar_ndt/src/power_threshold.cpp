@@ -168,10 +168,6 @@ const PowerThreshold::Geometry& PowerThreshold::geometry(const PolarScan& scan) 
 }
 
 namespace {
-/// Calls f(i, r0 + b0, r1 + b0, a0) for the geometry's pixels i of every block (a0, b0), row by
-/// row (r0, r1: rows a0 and next[a0]); with `threshold` (power 0..1) only for blocks with a sample
-/// above it. The block test runs over a whole row at a time (byte maxima the compiler vectorises),
-/// then visits the marked blocks, found eight flags at a time.
 /// hot[b] = 1 when block b of rows r0, r1 (bins b, b + 1 of both) has a sample above `limit`,
 /// else 0, for b < n. Separate pointers and a plain loop, so the compiler vectorises it.
 void markHotBlocks(const std::uint8_t* __restrict r0, const std::uint8_t* __restrict r1, int n, std::uint8_t limit,
@@ -196,6 +192,10 @@ inline int countTrailingZeros(std::uint64_t x) {  // x != 0
 #endif
 }
 
+/// Calls f(i, r0 + b0, r1 + b0, a0) for the geometry's pixels i of every block (a0, b0), row by
+/// row (r0, r1: rows a0 and next[a0]); with `threshold` (power 0..1) only for blocks with a sample
+/// above it. The block test runs over a whole row at a time (byte maxima the compiler vectorises),
+/// then visits the marked blocks, found eight flags at a time.
 template <typename G, typename F>
 void forEachBlockPixel(const G& g, const PolarScan& scan, const float* threshold, F&& f) {
   const int nb = g.blocks_per_row;

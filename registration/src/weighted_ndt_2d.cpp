@@ -23,8 +23,8 @@ void CellIndexHash::finalize() {
                y1 = x1;
   for (const Entry& e : entries_) {
     if (e.slots[0] < 0) continue;
-    const auto ix = static_cast<std::int32_t>(static_cast<std::uint32_t>(e.key >> 32));
-    const auto iy = static_cast<std::int32_t>(static_cast<std::uint32_t>(e.key & 0xffffffffu));
+    std::int32_t ix, iy;
+    unpackKey(e.key, ix, iy);
     x0 = std::min<std::int64_t>(x0, ix);
     x1 = std::max<std::int64_t>(x1, ix);
     y0 = std::min<std::int64_t>(y0, iy);
@@ -36,8 +36,8 @@ void CellIndexHash::finalize() {
   dense_.assign(static_cast<std::size_t>(w * h), Slots{{-1, -1, -1, -1}});
   for (const Entry& e : entries_) {
     if (e.slots[0] < 0) continue;
-    const auto ix = static_cast<std::int32_t>(static_cast<std::uint32_t>(e.key >> 32));
-    const auto iy = static_cast<std::int32_t>(static_cast<std::uint32_t>(e.key & 0xffffffffu));
+    std::int32_t ix, iy;
+    unpackKey(e.key, ix, iy);
     std::copy(e.slots, e.slots + 4, dense_[static_cast<std::size_t>((iy - y0) * w + (ix - x0))].slots);
   }
   dense_x0_ = x0;

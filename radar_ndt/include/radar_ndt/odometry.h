@@ -69,8 +69,8 @@ struct ScanningOdometryOptions {
   /// the usual on a simulated all-noise scan), and a bus passing alongside pulls the match
   /// 0.2-0.7 m along the road at 0.31-0.63 of the usual. Correct matches on three simulated 2 km
   /// drives stayed at 0.52 and above, so 0.6 trades a rare needless constant-velocity step (a few
-  /// cm off) for refusing those. A candidate found by the retry ladder is refined at the nominal settings
-  /// and judged there. 0: off.
+  /// cm off) for refusing those. A candidate found by the retry ladder is refined at the nominal
+  /// settings and judged there. 0: off.
   double min_relative_fit = 0.6;
   std::size_t fit_history = 15;  ///< judged matches the median is taken over (checked from 5 on)
 };

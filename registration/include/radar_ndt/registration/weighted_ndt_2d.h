@@ -83,6 +83,10 @@ class LazyKdTree : public pcl::search::KdTree<PointT> {
 inline std::uint64_t packKey(std::int32_t ix, std::int32_t iy) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(ix)) << 32) | static_cast<std::uint32_t>(iy);
 }
+inline void unpackKey(std::uint64_t key, std::int32_t& ix, std::int32_t& iy) {
+  ix = static_cast<std::int32_t>(static_cast<std::uint32_t>(key >> 32));
+  iy = static_cast<std::int32_t>(static_cast<std::uint32_t>(key & 0xffffffffu));
+}
 inline std::uint64_t hashKey(std::uint64_t k) {
   k ^= k >> 30;
   k *= 0xbf58476d1ce4e5b9ULL;

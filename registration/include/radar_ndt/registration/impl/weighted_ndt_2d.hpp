@@ -443,9 +443,9 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
   constexpr std::size_t kSubsample = 4;
   const bool coarse_phase = source_points_.size() >= 16 * kSubsample;
   bool stage_converged = false;
-  // The last full evaluation at the current x on the finest grid, with the information matrix and
-  // matched count, so the diagnostics below need no extra pass when the loop ends there.
-  bool final_eval_valid = false;
+  // The finest grid's full-resolution phase evaluates, with the information matrix and matched
+  // count, every x it moves to (the final x may be a step below the epsilons further on), so the
+  // diagnostics below need no extra pass.
   Eigen::Matrix3d info = Eigen::Matrix3d::Zero(), info_n;
   std::size_t matched = 0, matched_n = 0;
   double final_f = 0;
@@ -463,7 +463,6 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
       Eigen::Vector3d g;
       Eigen::Matrix3d H;
       double f = evaluate(grid, x, &g, &H, diagnose ? &matched : nullptr, diagnose ? &info : nullptr, stride);
-      final_eval_valid = diagnose;
       stage_converged = false;
       while (stage_iterations < max_iterations_) {
         ++stage_iterations;
@@ -483,6 +482,20 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
         if (std::abs(step.z()) * scale > max_step_rotation_) scale = max_step_rotation_ / std::abs(step.z());
         step *= scale;
         const double slope = g.dot(step);  // < 0 for a descent direction
+        auto isSmall = [&](const Eigen::Vector3d& d) {
+          return d.head<2>().squaredNorm() < eps_t && std::cos(d.z()) >= eps_r;
+        };
+        // A step below the epsilons is not tested against the score: the score jumps where points
+        // change cells, by more than such a step's predicted decrease, so the line search would
+        // only halve it many times over. A Newton step that small is the converged answer and is
+        // taken; a backtracked one that small means x is the answer.
+        if (isSmall(step)) {
+          x += step;
+          x.z() = normalizeAngle(x.z());
+          stage_converged = true;
+          // f, g, H and the diagnostics stay those of the previous x, less than the epsilons away.
+          break;
+        }
         // The full step usually passes, so it is evaluated with derivatives; shorter trials are
         // value-only and the derivatives are computed once one of them passes.
         double alpha = 1.0;
@@ -491,6 +504,7 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
         Eigen::Vector3d gn;
         Eigen::Matrix3d Hn;
         for (int ls = 0; ls < 12; ++ls) {
+          if (ls > 0 && isSmall(alpha * step)) break;
           fn = ls == 0 ? evaluate(grid, x + step, &gn, &Hn, diagnose ? &matched_n : nullptr,
                                   diagnose ? &info_n : nullptr, stride)
                        : evaluate(grid, x + alpha * step, nullptr, nullptr, nullptr, nullptr, stride);
@@ -502,13 +516,15 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
           alpha *= 0.5;
         }
         const Eigen::Vector3d applied = alpha * step;
-        const bool small = applied.head<2>().squaredNorm() < eps_t && std::cos(applied.z()) >= eps_r;
         if (!accepted) {
-          // No step along a descent direction improves the score: at the optimum to numerical
-          // precision when the predicted decrease is negligible, otherwise stuck (not converged).
-          stage_converged = small || std::abs(slope) < 1e-6 * std::max(1e-12, std::abs(f));
+          // No step along a descent direction improves the score: at the optimum to the score's
+          // resolution when the step has shrunk below the epsilons or the predicted decrease is
+          // negligible, otherwise stuck (not converged). x stays.
+          stage_converged = isSmall(applied) || std::abs(slope) < 1e-6 * std::max(1e-12, std::abs(f));
           break;
         }
+        // An accepted step is never below the epsilons (those are taken or refused above), so the
+        // stage goes on from the new x with its derivatives.
         x += applied;
         x.z() = normalizeAngle(x.z());
         if (have_derivatives) {
@@ -517,11 +533,6 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
           H = Hn;
           info = info_n;
           matched = matched_n;
-        }
-        if (small) {
-          stage_converged = true;
-          final_eval_valid = diagnose && have_derivatives;
-          break;
         }
         if (!have_derivatives)
           f = evaluate(grid, x, &g, &H, diagnose ? &matched : nullptr, diagnose ? &info : nullptr, stride);
@@ -533,15 +544,10 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
     }
   }
 
-  // Final diagnostics on the finest grid, at x (reusing the loop's last evaluation when it was there).
-  if (final_eval_valid) {
-    final_score_ = -final_f;
-    final_hessian_ = final_H;
-    num_matched_points_ = matched;
-  } else {
-    Eigen::Vector3d g;
-    final_score_ = -evaluate(grids_.back(), x, &g, &final_hessian_, &num_matched_points_, &info);
-  }
+  // Final diagnostics on the finest grid, from the loop's last evaluation there.
+  final_score_ = -final_f;
+  final_hessian_ = final_H;
+  num_matched_points_ = matched;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(info);
   const double imax = es.eigenvalues().maxCoeff(), imin = es.eigenvalues().minCoeff();
   if (num_matched_points_ < 3 || !(imax > 0) || !(imin > 1e-9 * imax)) {

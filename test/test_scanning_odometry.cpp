@@ -221,6 +221,23 @@ TEST(ScanningOdometry, DeterministicRunToRunAndWithOrWithoutTheDecodeThread) {
   }
 }
 
+namespace {
+// A scan of a static 2D world seen from (x0, 0) within 60 m: every world point with 3 cm of
+// noise, power 0.45 and a (10 cm)² covariance, in the vehicle frame.
+pcl::PointCloud<PointRadar>::Ptr observeWorld(const std::vector<Eigen::Vector2d>& world, double x0, std::mt19937& rng,
+                                              std::normal_distribution<float>& noise) {
+  pcl::PointCloud<PointRadar>::Ptr cloud(new pcl::PointCloud<PointRadar>);
+  for (const auto& w : world) {
+    const double x = w.x() - x0, y = w.y();
+    if (std::hypot(x, y) > 60) continue;
+    PointRadar p(static_cast<float>(x) + noise(rng), static_cast<float>(y) + noise(rng), 0.f, 0.45f);
+    p.cov_xx = p.cov_yy = 0.01f;
+    cloud->push_back(p);
+  }
+  return cloud;
+}
+}  // namespace
+
 TEST(ScanningOdometry, BusFillingTheViewTriggersTheFailureHandling) {
   // A static scene of weak returns and, from scan 4 on, a bus alongside moving with the car:
   // strong, dense and fixed in the vehicle frame, so it pulls the match to zero motion. The
@@ -241,15 +258,7 @@ TEST(ScanningOdometry, BusFillingTheViewTriggersTheFailureHandling) {
   options.scanning.keyframe_distance = 0;  // scan to scan: every step sees the bus in its target
   Odometry odometry(options, makeMatcher(Method::PwNdt, options.scanning.grid));
   for (int k = 0; k < 9; ++k) {
-    pcl::PointCloud<PointRadar>::Ptr cloud(new pcl::PointCloud<PointRadar>);
-    const double x0 = step * k;
-    for (const auto& w : world) {
-      const double x = w.x() - x0, y = w.y();
-      if (std::hypot(x, y) > 60) continue;
-      PointRadar p(static_cast<float>(x) + noise(rng), static_cast<float>(y) + noise(rng), 0.f, 0.45f);
-      p.cov_xx = p.cov_yy = 0.01f;
-      cloud->push_back(p);
-    }
+    pcl::PointCloud<PointRadar>::Ptr cloud = observeWorld(world, step * k, rng, noise);
     if (k >= 4)  // the bus: 12 m x 2.5 m beside the car, densely filled and saturated
       for (double bx = -4; bx <= 8; bx += 0.125)
         for (double by = 2.5; by <= 5.0; by += 0.125) {
@@ -289,14 +298,7 @@ TEST(ScanningOdometry, AScenePoorerForGoodCausesNoFallbackStorm) {
   OdometryOptions options;
   Odometry odometry(options, makeMatcher(Method::PwNdt, options.scanning.grid));
   for (int k = 0; k < scans; ++k) {
-    pcl::PointCloud<PointRadar>::Ptr cloud(new pcl::PointCloud<PointRadar>);
-    for (const auto& w : world) {
-      const double x = w.x() - step * k, y = w.y();
-      if (std::hypot(x, y) > 60) continue;
-      PointRadar p(static_cast<float>(x) + noise(rng), static_cast<float>(y) + noise(rng), 0.f, 0.45f);
-      p.cov_xx = p.cov_yy = 0.01f;
-      cloud->push_back(p);
-    }
+    pcl::PointCloud<PointRadar>::Ptr cloud = observeWorld(world, step * k, rng, noise);
     if (k >= change)
       for (std::size_t i = 0, n = 3 * cloud->size() / 2; i < n; ++i) {
         PointRadar p(uniform(rng), uniform(rng), 0.f, 0.45f);

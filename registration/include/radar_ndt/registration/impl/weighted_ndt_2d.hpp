@@ -459,6 +459,9 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
       const double eps_t = phase == 0 ? std::max(1e-4, transformation_epsilon_) : transformation_epsilon_;
       const double eps_r = phase == 0 ? std::min(std::cos(1e-3), transformation_rotation_epsilon_)
                                       : transformation_rotation_epsilon_;
+      auto isSmall = [&](const Eigen::Vector3d& d) {  // a step below this phase's epsilons
+        return d.head<2>().squaredNorm() < eps_t && std::cos(d.z()) >= eps_r;
+      };
       const bool diagnose = finest && phase == 1;  // also compute what the diagnostics need
       Eigen::Vector3d g;
       Eigen::Matrix3d H;
@@ -482,9 +485,6 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
         if (std::abs(step.z()) * scale > max_step_rotation_) scale = max_step_rotation_ / std::abs(step.z());
         step *= scale;
         const double slope = g.dot(step);  // < 0 for a descent direction
-        auto isSmall = [&](const Eigen::Vector3d& d) {
-          return d.head<2>().squaredNorm() < eps_t && std::cos(d.z()) >= eps_r;
-        };
         // A step below the epsilons is not tested against the score: the score jumps where points
         // change cells, by more than such a step's predicted decrease, so the line search would
         // only halve it many times over. A Newton step that small is the converged answer and is

@@ -149,6 +149,15 @@ SyntheticScanPair standardPair(std::uint32_t seed = 5) {
   return makeSyntheticScanPair(o);
 }
 
+/// A pair with 5 cm of position noise on every point (default motion range).
+SyntheticScanPair noisyPair(std::uint32_t seed, std::size_t points) {
+  SyntheticScanOptions o;
+  o.points = points;
+  o.seed = seed;
+  o.noise_std = 0.05;
+  return makeSyntheticScanPair(o);
+}
+
 }  // namespace
 
 TEST(WeightedNDT2D, PowerShiftIgnoresLowPowerClutterThatBiasesTheUnweightedResult) {
@@ -352,11 +361,7 @@ TEST(WeightedNDT2D, SourceVoxelMergeKeepsTheAnswer) {
   // The default merge of source points into 0.25 m weighted voxels approximates the cost; it must
   // not move the solution by more than a few millimetres against the unmerged cost.
   for (std::uint32_t seed = 20; seed < 23; ++seed) {
-    SyntheticScanOptions o;
-    o.points = 8000;
-    o.seed = seed;
-    o.noise_std = 0.05;
-    const auto pair = makeSyntheticScanPair(o);
+    const auto pair = noisyPair(seed, 8000);
     WeightedNDT2D<PointRadar, PointRadar> merged, exact;
     exact.setSourceVoxelSize(0.0);
     const auto a = alignPair(pair, Pose2::Zero(), merged);
@@ -431,11 +436,7 @@ class ExposedNDT : public WeightedNDT2D<PointRadar, PointRadar> {
 // The analytic gradient and Hessian agree with central differences of the value, for both lookups
 // (the score jumps where a point changes cells; a 1e-6 step rarely crosses one).
 TEST(WeightedNDT2D, DerivativesMatchFiniteDifferences) {
-  SyntheticScanOptions o;
-  o.points = 3000;
-  o.seed = 5;
-  o.noise_std = 0.05;
-  auto pair = makeSyntheticScanPair(o);
+  const auto pair = noisyPair(5, 3000);
   for (const CellLookup lookup : {CellLookup::Neighbours, CellLookup::OverlappingGrids}) {
     ExposedNDT ndt;
     ndt.setCellLookup(lookup);
@@ -478,11 +479,7 @@ TEST(WeightedNDT2D, IsMirrorEquivariant) {
   };
   for (const CellLookup lookup : {CellLookup::Neighbours, CellLookup::OverlappingGrids}) {
     for (std::uint32_t seed = 30; seed < 33; ++seed) {
-      SyntheticScanOptions o;
-      o.points = 6000;
-      o.seed = seed;
-      o.noise_std = 0.05;
-      const auto pair = makeSyntheticScanPair(o);
+      const auto pair = noisyPair(seed, 6000);
       SyntheticScanPair mirrored = pair;
       mirrored.source = mirror(pair.source);
       mirrored.target = mirror(pair.target);

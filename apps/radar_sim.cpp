@@ -63,6 +63,8 @@ std::map<std::string, Setting> settings(sim::WorldOptions& w, sim::ScanningOptio
   m["noise_rise_db"] = setting("scanning", s.noise_rise_db, "dB the noise mean grows from 0 m to max_range");
   m["display_db_range"] = setting("scanning", s.display_db_range, "dB spanned by pixel values 0..255");
   m["noise_display_level"] = setting("scanning", s.noise_display_level, "0..1 pixel value of the noise mean at 0 m");
+  m["display_knee_db"] = setting("scanning", s.display_knee_db, "dB over the noise mean above which display_compression applies");
+  m["display_compression"] = setting("scanning", s.display_compression, "slope of the display above the knee (1: none; 0.35 matches RADIATE's thresholded powers)");
   m["speckle_looks"] = setting("scanning", s.speckle_looks, "gamma shape of target fluctuation (1: Rayleigh)");
   m["ghost_probability"] = setting("scanning", s.ghost_probability, "share of facades and vehicle sides that mirror (multipath ghosts)");
   m["ghost_attenuation_db"] = setting("scanning", s.ghost_attenuation_db, "dB a ghost is below the direct return of what it shows");
@@ -242,6 +244,10 @@ int main(int argc, char** argv) {
       row("power p50", s.p50, r.p50, true);
       row("power p90", s.p90, r.p90, true);
       row("power p99", s.p99, r.p99, true);
+      // What the power shift weighs (w = p − s, s = thres): the spread of the thresholded powers.
+      row("above: p-thres p50", s.excess_p50, r.excess_p50, true);
+      row("above: p-thres p90", s.excess_p90, r.excess_p90, true);
+      row("above: p-thres p99", s.excess_p99, r.excess_p99, true);
       row("points per scan", static_cast<double>(s.points), static_cast<double>(r.points), false);
       std::printf("\nFront-end on the real scans (median): Cartesian %zu points in %.1f ms, polar %.0f points in %.2f ms\n",
                   r.points, median(ms_cartesian), median(n_polar), median(ms_polar));

@@ -312,16 +312,23 @@ PowerStatistics powerStatistics(const CartesianImage& image, float threshold) {
     if (p >= 0.0f) v.push_back(p);
   s.pixels = v.size();
   if (v.empty()) return s;
-  for (float p : v) s.points += p > threshold;
+  std::vector<float> excess;
+  for (float p : v)
+    if (p > threshold) excess.push_back(p - threshold);
+  s.points = excess.size();
   s.fraction_above = static_cast<double>(s.points) / s.pixels;
-  auto pct = [&](double q) {
-    const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5));
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-    return static_cast<double>(v[k]);
+  auto pct = [](std::vector<float>& x, double q) {
+    if (x.empty()) return 0.0;
+    const std::size_t k = std::min(x.size() - 1, static_cast<std::size_t>(q * (x.size() - 1) + 0.5));
+    std::nth_element(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(k), x.end());
+    return static_cast<double>(x[k]);
   };
-  s.p50 = pct(0.50);
-  s.p90 = pct(0.90);
-  s.p99 = pct(0.99);
+  s.p50 = pct(v, 0.50);
+  s.p90 = pct(v, 0.90);
+  s.p99 = pct(v, 0.99);
+  s.excess_p50 = pct(excess, 0.50);
+  s.excess_p90 = pct(excess, 0.90);
+  s.excess_p99 = pct(excess, 0.99);
   return s;
 }
 
@@ -339,6 +346,9 @@ PowerStatistics medianStatistics(std::vector<PowerStatistics> scans) {
   m.p50 = median(&PowerStatistics::p50);
   m.p90 = median(&PowerStatistics::p90);
   m.p99 = median(&PowerStatistics::p99);
+  m.excess_p50 = median(&PowerStatistics::excess_p50);
+  m.excess_p90 = median(&PowerStatistics::excess_p90);
+  m.excess_p99 = median(&PowerStatistics::excess_p99);
   m.points = static_cast<std::size_t>(median(&PowerStatistics::points));
   return m;
 }

@@ -114,6 +114,8 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
                 const ScanningOptions& o, PolarScan& scan) {
   if (o.azimuths <= 0 || o.bins <= 0 || o.range_resolution <= 0 || o.sweep_period <= 0 || o.beam_rays <= 0)
     throw std::invalid_argument("radar_sim: azimuths, bins, range resolution, sweep period and beam rays must be positive");
+  if (!(o.display_compression > 0 && o.display_compression <= 1) || !std::isfinite(o.display_knee_db))
+    throw std::invalid_argument("radar_sim: display_compression must be in (0, 1] and display_knee_db finite");
   Random rng(seed, 0x5ca7000000000000ULL + frame);
   const OxfordPolarOptions oxford;
   const int A = o.azimuths, B = o.bins;
@@ -250,6 +252,7 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
         if (saturated) i += saturation * (0.8 + 0.4 * rng.uniform());
         db = 10.0 * std::log10(std::max(i, 1e-12));
       }
+      if (o.display_compression < 1.0 && db > o.display_knee_db) db = o.display_knee_db + (db - o.display_knee_db) * o.display_compression;
       const double v = o.noise_display_level + db / o.display_db_range;
       row[b] = static_cast<std::uint8_t>(std::lround(std::min(std::max(v, 0.0), 1.0) * 255.0));
     }

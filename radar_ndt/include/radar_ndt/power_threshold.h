@@ -70,6 +70,9 @@ struct PowerStatistics {
   double fraction_above = 0.0;         ///< share of them above the threshold
   double p50 = 0.0, p90 = 0.0, p99 = 0.0;  ///< power percentiles (0..1)
   std::size_t points = 0;              ///< thresholded points (the front-end's output size)
+  /// Percentiles of p − threshold over the pixels above the threshold: the power-shift weights
+  /// w = p − s of the paper's eq. (1) at s = threshold, what the matcher's weighting acts on.
+  double excess_p50 = 0.0, excess_p90 = 0.0, excess_p99 = 0.0;
 };
 PowerStatistics powerStatistics(const CartesianImage& image, float threshold);
 /// Field-wise median over scans (empty input: all zero).

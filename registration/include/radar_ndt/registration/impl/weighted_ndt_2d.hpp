@@ -533,9 +533,9 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
           H = Hn;
           info = info_n;
           matched = matched_n;
-        }
-        if (!have_derivatives)
+        } else {
           f = evaluate(grid, x, &g, &H, diagnose ? &matched : nullptr, diagnose ? &info : nullptr, stride);
+        }
       }
       if (diagnose) {
         final_f = f;

@@ -49,6 +49,7 @@ std::map<std::string, Setting> settings(sim::WorldOptions& w, sim::ScanningOptio
   m["hedge_probability"] = setting("world", w.hedge_probability, "per open block without a fence: a hedge");
   m["movers_per_km"] = setting("world", w.movers_per_km, "moving cars and buses per km of path");
   m["bus_share"] = setting("world", w.bus_share, "share of movers that are buses");
+  m["mirror"] = setting("world", w.mirror, "1: the seed's world mirrored across the path (same draws; exact on a straight path)");
   m["azimuths"] = setting("scanning", s.azimuths, "azimuths a sweep");
   m["bins"] = setting("scanning", s.bins, "range bins an azimuth");
   m["range_resolution"] = setting("scanning", s.range_resolution, "m per bin");

@@ -114,6 +114,39 @@ TEST(RadarSim, DeterministicForASeed) {
   fs::remove_all(d2);
 }
 
+TEST(RadarSim, MirroredWorldIsTheSeedsWorldMirroredAcrossThePath) {
+  // On a straight path along x the mirror is y -> -y: every segment, circle and mover lane of the
+  // seed's world, with the same draws (what `--set mirror=1` gives for an experiment).
+  const sim::SimTrajectory ego = straight(10.0);
+  sim::WorldOptions wo;
+  wo.seed = 5;
+  const sim::World w = sim::World::generate(ego, wo);
+  wo.mirror = 1;
+  const sim::World m = sim::World::generate(ego, wo);
+  ASSERT_EQ(w.segments().size(), m.segments().size());
+  ASSERT_EQ(w.circles().size(), m.circles().size());
+  ASSERT_EQ(w.movers().size(), m.movers().size());
+  ASSERT_GT(w.segments().size(), 20u);
+  const Eigen::Vector2d flip(1.0, -1.0);
+  int left = 0;  // segment i is the mirror of segment i (each keeps its index: ghosts are drawn by index)
+  for (std::size_t i = 0; i < w.segments().size(); ++i) {
+    const sim::Segment &a = w.segments()[i], &b = m.segments()[i];
+    EXPECT_EQ(a.material, b.material) << i;
+    EXPECT_LT((b.a - a.a.cwiseProduct(flip)).norm(), 1e-9) << i;
+    EXPECT_LT((b.b - a.b.cwiseProduct(flip)).norm(), 1e-9) << i;
+    left += a.a.y() > 0;
+  }
+  EXPECT_GT(left, 0);
+  EXPECT_LT(left, static_cast<int>(w.segments().size())) << "both sides are built";
+  for (std::size_t i = 0; i < w.circles().size(); ++i) {
+    EXPECT_LT((m.circles()[i].c - w.circles()[i].c.cwiseProduct(flip)).norm(), 1e-9) << i;
+    EXPECT_EQ(m.circles()[i].r, w.circles()[i].r) << i;
+  }
+  for (std::size_t i = 0; i < w.movers().size(); ++i) EXPECT_EQ(m.movers()[i].lateral, -w.movers()[i].lateral) << i;
+  wo.mirror = 0.5;
+  EXPECT_THROW(sim::World::generate(ego, wo), std::invalid_argument);
+}
+
 TEST(RadarSim, MotionDistortion) {
   // Walls across the road 20 m ahead and 20 m behind the start; the ego drives at 10 m/s.
   const sim::SimTrajectory ego = straight(10.0);

@@ -221,7 +221,12 @@ Eigen::Vector2d offsetPoint(const SimTrajectory& path, double s, double lateral)
 World World::generate(const SimTrajectory& path, const WorldOptions& o) {
   World w;
   w.path_ = &path;
+  if (o.mirror != 0.0 && o.mirror != 1.0) throw std::invalid_argument("radar_sim: the world setting mirror must be 0 or 1");
   Random rng(o.seed, 0x5eed);
+  // Mirrored: every lateral offset and every orientation relative to the path is negated, with the
+  // same random draws, so a seed gives the mirror image of its world (exact on a straight path).
+  const double mirror = o.mirror != 0.0 ? -1.0 : 1.0;
+  auto mirroredAngle = [&](double s, double a) { return mirror > 0 ? a : 2.0 * path.atArc(s).z() - a; };
   const PathClearance clearance(path);
   const double L = path.length();
   constexpr double kClear = 2.2;  // m: nothing closer than this to any part of the path
@@ -233,7 +238,8 @@ World World::generate(const SimTrajectory& path, const WorldOptions& o) {
     w.segments_.push_back({a, b, m});
   };
   auto addBox = [&](const Eigen::Vector2d& c, double heading, double length, double width, Material m) {
-    const Eigen::Vector2d u(std::cos(heading), std::sin(heading)), v(-u.y(), u.x());
+    const Eigen::Vector2d u(std::cos(heading), std::sin(heading)), v = mirror * Eigen::Vector2d(-u.y(), u.x());
+    // (mirrored: corners in mirrored order, so each side keeps its index and its ghost draw)
     const Eigen::Vector2d q[4] = {c + 0.5 * length * u + 0.5 * width * v, c - 0.5 * length * u + 0.5 * width * v,
                                   c - 0.5 * length * u - 0.5 * width * v, c + 0.5 * length * u - 0.5 * width * v};
     for (const auto& p : q)
@@ -247,7 +253,8 @@ World World::generate(const SimTrajectory& path, const WorldOptions& o) {
 
   constexpr double kBlock = 30.0;
   for (double s0 = -40.0; s0 < L + 40.0; s0 += kBlock) {
-    for (int side : {+1, -1}) {
+    for (int kerb : {+1, -1}) {
+      const double side = mirror * kerb;  // +1: left of the path
       const double half = rng.uniform(o.road_half_width_min, o.road_half_width_max);
       const bool facade = rng.chance(o.building_probability);
       if (facade) {
@@ -288,7 +295,7 @@ World World::generate(const SimTrajectory& path, const WorldOptions& o) {
         for (int i = 0; i < n; ++i) {
           const double s = s0 + rng.uniform(0, kBlock), off = side * (half + rng.uniform(6.0, 60.0));
           const Eigen::Vector2d c = offsetPoint(path, s, off);
-          const double a = rng.uniform(0, 2 * M_PI), kind = rng.uniform();
+          const double a = mirroredAngle(s, rng.uniform(0, 2 * M_PI)), kind = rng.uniform();
           if (kind < 0.35) {
             const double len = rng.uniform(4.0, 14.0);
             const Eigen::Vector2d d(std::cos(a) * len / 2, std::sin(a) * len / 2);
@@ -301,12 +308,12 @@ World World::generate(const SimTrajectory& path, const WorldOptions& o) {
         }
       }
       // Parked cars along the kerb (on the oncoming side only where the road is wide).
-      if (side > 0 || half > 6.2) {
+      if (kerb > 0 || half > 6.2) {
         for (double s = s0; s < s0 + kBlock; s += 6.0) {
           if (!rng.chance(o.parked_car_probability)) continue;
           const Pose2 p = path.atArc(s + 3.0);
           const Eigen::Vector2d c = offsetPoint(path, s + 3.0, side * (half - 1.0));
-          addBox(c, p.z() + rng.uniform(-0.05, 0.05), rng.uniform(3.9, 4.9), rng.uniform(1.7, 1.95), Material::Car);
+          addBox(c, p.z() + mirror * rng.uniform(-0.05, 0.05), rng.uniform(3.9, 4.9), rng.uniform(1.7, 1.95), Material::Car);
         }
       }
       // Poles (lamp posts, signs) and street trees.
@@ -339,7 +346,7 @@ World World::generate(const SimTrajectory& path, const WorldOptions& o) {
       m.t_end = m.t_start + rng.uniform(10.0, 60.0);
     } else {
       m.speed = -rng.uniform(5.0, 13.0);
-      m.lateral = -3.2;
+      m.lateral = -3.2 * mirror;
       m.t_start = path.startTime() + rng.uniform(-60.0, duration);
       m.t_end = m.t_start + 120.0;
       // Placed so that it meets the ego somewhere in its life.

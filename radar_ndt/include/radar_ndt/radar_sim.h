@@ -85,6 +85,11 @@ struct WorldOptions {
   double hedge_probability = 0.3;     ///< per block, where there is no facade
   double movers_per_km = 12.0;        ///< moving cars and buses per km of path
   double bus_share = 0.25;
+  /// 1: the mirror image of the seed's world across the path (every lateral offset and relative
+  /// orientation negated, the same random draws; parked cars on the right kerb, oncoming traffic
+  /// on the left). Exact on a straight path. For telling what a world's layout does from what the
+  /// sensor does. The ground-clutter field is not mirrored.
+  double mirror = 0.0;
 };
 
 struct Segment {

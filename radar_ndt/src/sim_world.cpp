@@ -238,8 +238,9 @@ World World::generate(const SimTrajectory& path, const WorldOptions& o) {
     w.segments_.push_back({a, b, m});
   };
   auto addBox = [&](const Eigen::Vector2d& c, double heading, double length, double width, Material m) {
+    // Mirrored, v flips too: the corners come in mirrored order, so each side keeps its index (and
+    // with it its ghost draw).
     const Eigen::Vector2d u(std::cos(heading), std::sin(heading)), v = mirror * Eigen::Vector2d(-u.y(), u.x());
-    // (mirrored: corners in mirrored order, so each side keeps its index and its ghost draw)
     const Eigen::Vector2d q[4] = {c + 0.5 * length * u + 0.5 * width * v, c - 0.5 * length * u + 0.5 * width * v,
                                   c - 0.5 * length * u - 0.5 * width * v, c + 0.5 * length * u - 0.5 * width * v};
     for (const auto& p : q)

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/polar_scan.h"
@@ -36,6 +37,49 @@ void expectIoError(F f, const std::string& path, const std::string& what) {
     EXPECT_NE(msg.find(path), std::string::npos) << msg;
     EXPECT_NE(msg.find(what), std::string::npos) << msg;
   }
+}
+
+/// A PNG chunk: length, type, data, CRC.
+std::string pngChunk(const std::string& type, const std::string& data) {
+  std::string out;
+  auto be32 = [&out](std::uint32_t v) {
+    for (int i = 3; i >= 0; --i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+  };
+  be32(static_cast<std::uint32_t>(data.size()));
+  const std::string body = type + data;
+  out += body;
+  be32(static_cast<std::uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))));
+  return out;
+}
+
+/// A PNG as another tool might write it: `samples` is width × height pixels of `bytes_per_pixel`
+/// bytes each, stored with `bit_depth`/`color_type`, `extra` chunks (gAMA, PLTE, ...) before the
+/// data, optionally Adam7-interlaced. Every row uses filter 0.
+std::string buildPng(int width, int height, int bit_depth, int color_type, int bytes_per_pixel, const std::vector<std::uint8_t>& samples,
+                     const std::string& extra = "", bool adam7 = false) {
+  std::string ihdr;
+  for (std::uint32_t v : {static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height)})
+    for (int i = 3; i >= 0; --i) ihdr.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+  ihdr += {static_cast<char>(bit_depth), static_cast<char>(color_type), 0, 0, static_cast<char>(adam7 ? 1 : 0)};
+  std::string raw;
+  auto addRow = [&](int y, int x0, int dx) {
+    if (x0 >= width) return;
+    raw.push_back(0);
+    for (int x = x0; x < width; x += dx)
+      raw.append(reinterpret_cast<const char*>(samples.data()) + (static_cast<std::size_t>(y) * width + x) * bytes_per_pixel, bytes_per_pixel);
+  };
+  if (adam7) {
+    const int pass[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4}, {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}};
+    for (const auto& p : pass)
+      for (int y = p[1]; y < height; y += p[3]) addRow(y, p[0], p[2]);
+  } else {
+    for (int y = 0; y < height; ++y) addRow(y, 0, 1);
+  }
+  uLongf size = compressBound(static_cast<uLong>(raw.size()));
+  std::string z(size, '\0');
+  EXPECT_EQ(compress(reinterpret_cast<Bytef*>(&z[0]), &size, reinterpret_cast<const Bytef*>(raw.data()), static_cast<uLong>(raw.size())), Z_OK);
+  z.resize(size);
+  return std::string("\x89PNG\r\n\x1a\n", 8) + pngChunk("IHDR", ihdr) + extra + pngChunk("IDAT", z) + pngChunk("IEND", "");
 }
 
 /// A small Oxford-format scan with known content.
@@ -166,8 +210,9 @@ TEST(OxfordPolar, MalformedFilesGiveClearErrors) {
 
   const std::string colour = dir + "/colour.png";
   std::vector<std::uint8_t> rgb(400 * 3779 * 3, 0);
+  rgb[3 * 5000 + 1] = 1;  // one pixel not grey
   writePng(colour, 3779, 400, 3, rgb.data());
-  expectIoError([&] { readOxfordPolarPng(colour); }, colour, "colour");
+  expectIoError([&] { readOxfordPolarPng(colour); }, colour, "colour image (pixel 1221, 1 is RGB 0,1,0)");
 
   PolarScan backwards = smallOxfordScan();
   backwards.stamp_us[200] = backwards.stamp_us[100];
@@ -177,6 +222,60 @@ TEST(OxfordPolar, MalformedFilesGiveClearErrors) {
 
   const std::string missing = dir + "/missing.png";
   expectIoError([&] { readOxfordPolarPng(missing); }, missing, "cannot open");
+  fs::remove_all(dir);
+}
+
+TEST(OxfordPolar, ScansWrittenByOtherToolsReadAsTheirStoredValues) {
+  // The samples are data, not a picture: a gAMA chunk (which libpng's simplified API applies to
+  // 8-bit output), a grey image stored as RGB, RGBA, grey + alpha or through a grey palette, and
+  // interlacing must all give the stored bytes. Real colour and other sample depths are refused.
+  const std::string dir = freshTempDir("oxford_tools");
+  const std::string plain = dir + "/1547120000000000.png";
+  writeOxfordPolarPng(plain, smallOxfordScan(40));
+  const GrayImage img = readGrayPng(plain);
+  const PolarScan ref = readOxfordPolarPng(plain);
+  const int w = img.width, h = img.height;
+  const std::vector<std::uint8_t>& g = img.pixels;
+  std::vector<std::uint8_t> rgb, rgba, ga, g16;
+  for (std::uint8_t v : g) {
+    rgb.insert(rgb.end(), {v, v, v});
+    rgba.insert(rgba.end(), {v, v, v, 255});
+    ga.insert(ga.end(), {v, 255});
+    g16.insert(g16.end(), {v, v});
+  }
+  std::string grey_palette;
+  for (int i = 0; i < 256; ++i) grey_palette += std::string(3, static_cast<char>(i));
+  const std::string gamma_linear = pngChunk("gAMA", std::string("\x00\x01\x86\xa0", 4));  // 1.0
+  const std::vector<std::pair<std::string, std::string>> same = {
+      {"gamma_1.png", buildPng(w, h, 8, 0, 1, g, gamma_linear)},
+      {"srgb.png", buildPng(w, h, 8, 0, 1, g, pngChunk("sRGB", std::string(1, '\0')))},
+      {"rgb.png", buildPng(w, h, 8, 2, 3, rgb)},
+      {"rgba.png", buildPng(w, h, 8, 6, 4, rgba, gamma_linear)},
+      {"grey_alpha.png", buildPng(w, h, 8, 4, 2, ga)},
+      {"palette.png", buildPng(w, h, 8, 3, 1, g, pngChunk("PLTE", grey_palette))},
+      {"adam7.png", buildPng(w, h, 8, 0, 1, g, "", true)},
+  };
+  for (const auto& [name, bytes] : same) {
+    const std::string path = dir + "/" + name;
+    writeText(path, bytes);
+    try {
+      const PolarScan r = readOxfordPolarPng(path);
+      EXPECT_EQ(r.power, ref.power) << name;
+      EXPECT_EQ(r.stamp_us, ref.stamp_us) << name;
+      EXPECT_EQ(r.encoder, ref.encoder) << name;
+      EXPECT_EQ(r.measured, ref.measured) << name;
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << name << ": " << e.what();
+    }
+  }
+  std::vector<std::uint8_t> tinted = rgb;
+  tinted[3 * (2 * w + 100) + 2] ^= 1;
+  const std::string colour = dir + "/colour.png";
+  writeText(colour, buildPng(w, h, 8, 2, 3, tinted));
+  expectIoError([&] { readOxfordPolarPng(colour); }, colour, "colour image (pixel 100, 2");
+  const std::string deep = dir + "/16bit.png";
+  writeText(deep, buildPng(w, h, 16, 0, 2, g16));
+  expectIoError([&] { readOxfordPolarPng(deep); }, deep, "16-bit samples");
   fs::remove_all(dir);
 }
 

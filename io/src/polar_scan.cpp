@@ -4,10 +4,12 @@
 
 #include <cmath>
 #include <csetjmp>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
+#include <new>
 #include <sstream>
 
 #include "radar_ndt/io/atomic_file.h"
@@ -31,68 +33,143 @@ double wrapPi(double a) {
   return a;
 }
 
+// libpng's classic API reports errors by longjmp. Its error pointer is the message buffer (256
+// bytes); nothing with a destructor lives between setjmp and the calls that can jump.
+void pngError(png_structp png, png_const_charp msg) {
+  std::snprintf(static_cast<char*>(png_get_error_ptr(png)), 256, "%s", msg);
+  png_longjmp(png, 1);
+}
+void pngWarning(png_structp, png_const_charp) {}
+
+struct PngReadContext {
+  const std::string* data = nullptr;
+  std::size_t pos = 0;
+  char message[256] = {0};
+  std::string refusal;  ///< set when the file is a valid PNG this reader does not take
+  png_uint_32 width = 0, height = 0;
+  std::vector<std::uint8_t> samples;  ///< width × height × channels after the transforms
+  std::vector<png_bytep> rows;
+  int channels = 0;
+};
+
+void pngRead(png_structp png, png_bytep out, png_size_t length) {
+  auto* ctx = static_cast<PngReadContext*>(png_get_io_ptr(png));
+  if (length > ctx->data->size() - ctx->pos) png_error(png, "the file ends inside the image data");
+  std::memcpy(out, ctx->data->data() + ctx->pos, length);
+  ctx->pos += length;
+}
+
+// Decodes the samples exactly as stored: no gamma, colour-space or background handling (libpng's
+// simplified API converts 8-bit output to sRGB, so a file with a gAMA chunk, as some tools write,
+// would come out with altered powers and timestamps). Palette images are expanded through their
+// palette, alpha is dropped, interlaced images are de-interlaced. Returns false on a libpng error
+// (message in ctx) or a refusal (ctx.refusal); `header_done` tells which stage failed.
+bool decodePngSamples(PngReadContext& ctx, bool& header_done) {
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, ctx.message, pngError, pngWarning);
+  if (!png) {
+    std::snprintf(ctx.message, sizeof ctx.message, "out of memory");
+    return false;
+  }
+  png_infop info = png_create_info_struct(png);
+  if (!info) {
+    png_destroy_read_struct(&png, nullptr, nullptr);
+    std::snprintf(ctx.message, sizeof ctx.message, "out of memory");
+    return false;
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return false;
+  }
+  png_set_read_fn(png, &ctx, pngRead);
+  png_read_info(png, info);
+  header_done = true;
+  int bit_depth = 0, color_type = 0, interlace = 0;
+  png_get_IHDR(png, info, &ctx.width, &ctx.height, &bit_depth, &color_type, &interlace, nullptr, nullptr);
+  const bool palette = color_type == PNG_COLOR_TYPE_PALETTE;
+  if (bit_depth == 16) {
+    ctx.refusal = "expected an 8-bit grayscale PNG, found 16-bit samples";
+  } else if (bit_depth != 8 && !palette) {
+    ctx.refusal = "expected an 8-bit grayscale PNG, found " + std::to_string(bit_depth) + "-bit samples";
+  } else {
+    const std::size_t pixels = static_cast<std::size_t>(ctx.width) * ctx.height;
+    if (pixels > kMaxPixels) {
+      ctx.refusal = "PNG declares an absurd size " + std::to_string(ctx.width) + "x" + std::to_string(ctx.height);
+    } else if (pixels / kMaxInflation > ctx.data->size()) {
+      // zlib inflates at most ~1032:1, so a header that declares more pixels than the file can
+      // hold is refused before the image is allocated.
+      ctx.refusal = "PNG declares " + std::to_string(ctx.width) + "x" + std::to_string(ctx.height) + " pixels, more than its " +
+                    std::to_string(ctx.data->size()) + " bytes can hold (truncated?)";
+    }
+  }
+  if (!ctx.refusal.empty()) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return false;
+  }
+  if (palette) png_set_palette_to_rgb(png);
+  png_set_strip_alpha(png);
+  png_set_interlace_handling(png);
+  png_read_update_info(png, info);
+  ctx.channels = png_get_channels(png, info);
+  if ((ctx.channels != 1 && ctx.channels != 3) || png_get_rowbytes(png, info) != static_cast<std::size_t>(ctx.width) * ctx.channels)
+    png_error(png, "unexpected sample layout after expansion");
+  try {
+    ctx.samples.resize(static_cast<std::size_t>(ctx.width) * ctx.height * ctx.channels);
+    ctx.rows.resize(ctx.height);
+  } catch (const std::bad_alloc&) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    ctx.refusal = "out of memory for a " + std::to_string(ctx.width) + "x" + std::to_string(ctx.height) + " image";
+    return false;
+  }
+  for (png_uint_32 r = 0; r < ctx.height; ++r) ctx.rows[r] = ctx.samples.data() + static_cast<std::size_t>(r) * ctx.width * ctx.channels;
+  png_read_image(png, ctx.rows.data());
+  png_read_end(png, nullptr);
+  png_destroy_read_struct(&png, &info, nullptr);
+  return true;
+}
+
 GrayImage decodeGrayPng(const std::string& path, const std::string& data) {
   static const unsigned char kSignature[8] = {137, 80, 78, 71, 13, 10, 26, 10};
   if (data.empty()) throw IoError(path, "empty file, expected a PNG image");
   if (data.size() < 8 || std::memcmp(data.data(), kSignature, 8) != 0)
     throw IoError(path, "not a PNG file (bad signature)");
-  png_image image;
-  std::memset(&image, 0, sizeof image);
-  image.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_memory(&image, data.data(), data.size()))
-    throw IoError(path, std::string("invalid PNG header: ") + image.message);
-  if (image.format & (PNG_FORMAT_FLAG_COLOR | PNG_FORMAT_FLAG_LINEAR | PNG_FORMAT_FLAG_COLORMAP)) {
-    const bool color = image.format & PNG_FORMAT_FLAG_COLOR;
-    png_image_free(&image);
-    throw IoError(path, color ? "expected an 8-bit grayscale PNG, found a colour image"
-                              : "expected an 8-bit grayscale PNG, found 16-bit or palette data");
+  PngReadContext ctx;
+  ctx.data = &data;
+  bool header_done = false;
+  if (!decodePngSamples(ctx, header_done)) {
+    if (!ctx.refusal.empty()) throw IoError(path, ctx.refusal);
+    throw IoError(path, std::string(header_done ? "corrupt or truncated PNG data: " : "invalid PNG header: ") + ctx.message);
   }
-  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
-  if (image.width == 0 || image.height == 0 || pixels > kMaxPixels) {
-    png_image_free(&image);
-    throw IoError(path, "PNG declares an absurd size " + std::to_string(image.width) + "x" +
-                            std::to_string(image.height));
-  }
-  // zlib inflates at most ~1032:1, so a header that declares more pixels than the file can hold is
-  // refused before the image is allocated.
-  if (pixels / kMaxInflation > data.size()) {
-    png_image_free(&image);
-    throw IoError(path, "PNG declares " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-                            " pixels, more than its " + std::to_string(data.size()) + " bytes can hold (truncated?)");
-  }
-  image.format = PNG_FORMAT_GRAY;  // alpha (if any) is dropped; the data has none
   GrayImage out;
-  out.width = static_cast<int>(image.width);
-  out.height = static_cast<int>(image.height);
+  out.width = static_cast<int>(ctx.width);
+  out.height = static_cast<int>(ctx.height);
+  if (ctx.channels == 1) {
+    out.pixels = std::move(ctx.samples);
+    return out;
+  }
+  // A colour (or palette) file is taken when it is grey, as tools that write every image as RGB
+  // leave it; real colour cannot be a radar scan.
+  const std::size_t pixels = static_cast<std::size_t>(ctx.width) * ctx.height;
   out.pixels.resize(pixels);
-  if (!png_image_finish_read(&image, nullptr, out.pixels.data(), 0, nullptr))
-    throw IoError(path, std::string("corrupt or truncated PNG data: ") + image.message);
+  for (std::size_t i = 0; i < pixels; ++i) {
+    const std::uint8_t* p = ctx.samples.data() + 3 * i;
+    if (p[0] != p[1] || p[0] != p[2])
+      throw IoError(path, "expected an 8-bit grayscale PNG, found a colour image (pixel " + std::to_string(i % ctx.width) + ", " +
+                              std::to_string(i / ctx.width) + " is RGB " + std::to_string(p[0]) + "," + std::to_string(p[1]) + "," +
+                              std::to_string(p[2]) + ")");
+    out.pixels[i] = p[0];
+  }
   return out;
 }
 
-// libpng's classic writer reports errors by longjmp; nothing with a destructor lives between
-// setjmp and the calls that can jump.
-struct PngWriteContext {
-  std::string* out;
-  char message[256];
-};
-
+// libpng's classic writer: its error pointer is the message buffer, its io pointer the output.
 void pngWrite(png_structp png, png_bytep data, png_size_t length) {
-  auto* ctx = static_cast<PngWriteContext*>(png_get_io_ptr(png));
-  ctx->out->append(reinterpret_cast<const char*>(data), length);
+  static_cast<std::string*>(png_get_io_ptr(png))->append(reinterpret_cast<const char*>(data), length);
 }
 void pngFlush(png_structp) {}
-void pngError(png_structp png, png_const_charp msg) {
-  auto* ctx = static_cast<PngWriteContext*>(png_get_error_ptr(png));
-  std::snprintf(ctx->message, sizeof ctx->message, "%s", msg);
-  png_longjmp(png, 1);
-}
-void pngWarning(png_structp, png_const_charp) {}
 
 bool encodePng(std::string& out, int width, int height, int channels, const std::uint8_t* pixels, int level,
                char* message) {
-  PngWriteContext ctx{&out, {0}};
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &ctx, pngError, pngWarning);
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, message, pngError, pngWarning);
   if (!png) return false;
   png_infop info = png_create_info_struct(png);
   if (!info) {
@@ -100,11 +177,10 @@ bool encodePng(std::string& out, int width, int height, int channels, const std:
     return false;
   }
   if (setjmp(png_jmpbuf(png))) {
-    std::snprintf(message, 256, "%s", ctx.message);
     png_destroy_write_struct(&png, &info);
     return false;
   }
-  png_set_write_fn(png, &ctx, pngWrite, pngFlush);
+  png_set_write_fn(png, &out, pngWrite, pngFlush);
   png_set_compression_level(png, level);
   // PNG's adaptive filters cost more than the zlib level saves on speckled radar images.
   png_set_filter(png, PNG_FILTER_TYPE_BASE, level <= 3 ? PNG_FILTER_SUB : PNG_ALL_FILTERS);

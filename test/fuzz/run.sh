@@ -36,6 +36,9 @@ if cmake -S . -B build -G Ninja >/dev/null && cmake --build build --target radar
   rm -rf "$sim"
   ./build/apps/radar_sim --type scanning --frames 3 --out "$sim" -q --set azimuths=32 --set bins=200
   i=0; for f in "$sim"/radar/*.png; do prefixed 0 "$f" "$seeds/fuzz_polar_png/sim_$i.png"; i=$((i+1)); done
+  # The first scan as other tools store it (gAMA, RGB, RGBA, grey + alpha, palette, Adam7, 16-bit).
+  python3 test/fuzz/png_variants.py "$(ls "$sim"/radar/*.png | head -1)" "$out/variant"
+  for f in "$out"/variant_*.png; do prefixed 0 "$f" "$seeds/fuzz_polar_png/$(basename "$f")"; rm "$f"; done
   cp "$sim/gt/radar_odometry.csv" "$seeds/fuzz_oxford_odometry_csv/sim.csv"
   prefixed 0 "$sim/radar.timestamps" "$seeds/fuzz_sequence_index/sim_radar.timestamps"
   prefixed 1 "$sim/gt/poses.txt" "$seeds/fuzz_trajectory/sim_poses_kitti.txt"

@@ -91,7 +91,11 @@ void writeOxfordPolarPng(const std::string& path, const PolarScan& scan, const O
 PolarScan readRadiatePolarPng(const std::string& path, std::int64_t frame_time_us = 0,
                               const RadiatePolarOptions& options = {});
 
-/// Decodes any 8-bit grayscale PNG into row-major pixels (for tools and tests).
+/// Decodes an 8-bit grayscale PNG into row-major pixels, the samples exactly as stored: gamma and
+/// colour-space chunks are ignored (a scan is data, not a picture), alpha is dropped, interlacing
+/// is undone, and a file stored as RGB, RGBA or through a palette is taken when every pixel is grey
+/// (as tools that write every image in colour leave it). Real colour and other sample depths than 8
+/// bits are an IoError naming the file.
 struct GrayImage {
   int width = 0;
   int height = 0;

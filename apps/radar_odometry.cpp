@@ -584,40 +584,14 @@ int main(int argc, char** argv) {
       } else {
         json mean;
         if (eval) {
-          // Mean of each numeric metric value over scenes.
-          json m = all[0]["metrics"];
-          for (auto& [name, entry] : m.items())
-            for (auto& [key, value] : entry.items()) {
-              double s = 0;
-              for (const auto& scene : all) s += scene["metrics"][name][key].get<double>();
-              value = s / static_cast<double>(all.size());
-            }
-          mean["metrics"] = m;
+          // Each error averaged over the scenes where it is defined (null: none), counts summed.
+          mean["metrics"] = metricsOf(meanReport(reports));
         }
         std::cout << json{{"scenes", all}, {"mean", mean}}.dump(2) << std::endl;
       }
     } else if (eval && reports.size() > 1) {
       std::printf("mean over %zu scenes:\n", reports.size());
-      EvaluationReport mean = reports[0];
-      auto avg = [&](auto getter) {
-        double s = 0;
-        for (const auto& r : reports) s += getter(r);
-        return s / static_cast<double>(reports.size());
-      };
-      if (mean.one_meter) {
-        mean.one_meter->trans_err_pct = avg([](const EvaluationReport& r) { return r.one_meter->trans_err_pct; });
-        mean.one_meter->rot_err_deg_per_m = avg([](const EvaluationReport& r) { return r.one_meter->rot_err_deg_per_m; });
-      }
-      if (mean.kitti) {
-        mean.kitti->trans_err_pct = avg([](const EvaluationReport& r) { return r.kitti->trans_err_pct; });
-        mean.kitti->rot_err_deg_per_m = avg([](const EvaluationReport& r) { return r.kitti->rot_err_deg_per_m; });
-      }
-      if (mean.frame) {
-        mean.frame->trans_err_m = avg([](const EvaluationReport& r) { return r.frame->trans_err_m; });
-        mean.frame->rot_err_deg = avg([](const EvaluationReport& r) { return r.frame->rot_err_deg; });
-      }
-      if (mean.ate) mean.ate->rmse_m = avg([](const EvaluationReport& r) { return r.ate->rmse_m; });
-      std::cout << formatTable(mean);
+      std::cout << formatTable(meanReport(reports));
     }
     return 0;
   });

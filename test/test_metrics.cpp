@@ -151,6 +151,34 @@ TEST(Metrics, JsonHasTheSharedShape) {
     EXPECT_NE(j.find(key), std::string::npos) << key;
 }
 
+TEST(Metrics, AnErrorWithNothingToAverageIsUndefinedNotZero) {
+  // 40 m of driving: no KITTI segment (the shortest is 100 m). A zero there would read as a perfect
+  // estimate; it is NaN, "n/a" in the table and null in JSON.
+  const auto short_gt = drive(80, 0.5);
+  const auto r = evaluate(byIndex(short_gt, scaled(short_gt, 0.01)), parseMetrics("kitti,frame"));
+  ASSERT_TRUE(r.kitti);
+  EXPECT_EQ(r.kitti->segments, 0u);
+  EXPECT_TRUE(std::isnan(r.kitti->trans_err_pct));
+  EXPECT_TRUE(std::isnan(r.kitti->rot_err_deg_per_m));
+  for (const auto& pl : r.kitti->per_length) EXPECT_TRUE(std::isnan(pl.trans_err_pct)) << pl.length;
+  EXPECT_GT(r.frame->pairs, 0u);
+  const std::string table = formatTable(r);
+  EXPECT_NE(table.find("n/a"), std::string::npos) << table;
+  EXPECT_NE(table.find("shorter than 100 m"), std::string::npos) << table;
+  EXPECT_EQ(table.find("0.00000 %"), std::string::npos) << table;
+  EXPECT_NE(toJson(r).find("\"trans_err_pct\": null"), std::string::npos) << toJson(r);
+
+  // The mean over runs takes each error where it is defined and sums the counts.
+  const auto long_gt = drive(3000, 0.5);
+  const auto longer = evaluate(byIndex(long_gt, scaled(long_gt, 0.01)), parseMetrics("kitti,frame"));
+  const EvaluationReport mean = meanReport({r, longer});
+  EXPECT_DOUBLE_EQ(mean.kitti->trans_err_pct, longer.kitti->trans_err_pct);
+  EXPECT_EQ(mean.kitti->segments, longer.kitti->segments);
+  EXPECT_DOUBLE_EQ(mean.frame->trans_err_m, 0.5 * (r.frame->trans_err_m + longer.frame->trans_err_m));
+  EXPECT_EQ(mean.frame->pairs, r.frame->pairs + longer.frame->pairs);
+  EXPECT_TRUE(std::isnan(meanReport({r, r}).kitti->trans_err_pct));
+}
+
 // The published evaluation (CFEAR-3 on Oxford, its authors' own code): ../shared/data/kitti-metric-fixture.
 TEST(Metrics, MatchesThePublishedKittiFixture) {
   const std::string dir = std::string(RADAR_NDT_SHARED_DATA) + "/kitti-metric-fixture";

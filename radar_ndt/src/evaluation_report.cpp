@@ -1,5 +1,6 @@
 #include "radar_ndt/evaluation_report.h"
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
@@ -59,6 +60,89 @@ EvaluationReport evaluate(const PosePairs& pairs, const std::vector<Metric>& met
 }
 
 namespace {
+/// Mean of the finite values (NaN when there are none).
+struct DefinedMean {
+  double sum = 0;
+  std::size_t n = 0;
+  void add(double v) {
+    if (std::isfinite(v)) sum += v, ++n;
+  }
+  double value() const { return n ? sum / static_cast<double>(n) : kUndefinedError; }
+};
+
+SegmentError meanSegments(const std::vector<const SegmentError*>& runs) {
+  SegmentError out;
+  DefinedMean t, r;
+  for (const SegmentError* e : runs) {
+    t.add(e->trans_err_pct);
+    r.add(e->rot_err_deg_per_m);
+    out.segments += e->segments;
+  }
+  out.trans_err_pct = t.value();
+  out.rot_err_deg_per_m = r.value();
+  out.per_length = runs.front()->per_length;
+  for (std::size_t i = 0; i < out.per_length.size(); ++i) {
+    DefinedMean pt, pr;
+    std::size_t segments = 0;
+    for (const SegmentError* e : runs)
+      if (i < e->per_length.size()) {
+        pt.add(e->per_length[i].trans_err_pct);
+        pr.add(e->per_length[i].rot_err_deg_per_m);
+        segments += e->per_length[i].segments;
+      }
+    out.per_length[i].trans_err_pct = pt.value();
+    out.per_length[i].rot_err_deg_per_m = pr.value();
+    out.per_length[i].segments = segments;
+  }
+  return out;
+}
+}  // namespace
+
+EvaluationReport meanReport(const std::vector<EvaluationReport>& reports) {
+  EvaluationReport mean;
+  if (reports.empty()) return mean;
+  auto all = [&](auto has) {
+    for (const auto& r : reports)
+      if (!has(r)) return false;
+    return true;
+  };
+  for (const auto& r : reports) mean.associated_poses += r.associated_poses;
+  if (all([](const EvaluationReport& r) { return r.kitti.has_value(); })) {
+    std::vector<const SegmentError*> runs;
+    for (const auto& r : reports) runs.push_back(&*r.kitti);
+    mean.kitti = meanSegments(runs);
+  }
+  if (all([](const EvaluationReport& r) { return r.one_meter.has_value(); })) {
+    std::vector<const SegmentError*> runs;
+    for (const auto& r : reports) runs.push_back(&*r.one_meter);
+    mean.one_meter = meanSegments(runs);
+  }
+  if (all([](const EvaluationReport& r) { return r.frame.has_value(); })) {
+    FrameError f;
+    DefinedMean t, rot;
+    for (const auto& r : reports) {
+      t.add(r.frame->trans_err_m);
+      rot.add(r.frame->rot_err_deg);
+      f.pairs += r.frame->pairs;
+    }
+    f.trans_err_m = t.value();
+    f.rot_err_deg = rot.value();
+    mean.frame = f;
+  }
+  if (all([](const EvaluationReport& r) { return r.ate.has_value(); })) {
+    AbsoluteError a;
+    DefinedMean m;
+    for (const auto& r : reports) {
+      m.add(r.ate->rmse_m);
+      a.poses += r.ate->poses;
+    }
+    a.rmse_m = m.value();
+    mean.ate = a;
+  }
+  return mean;
+}
+
+namespace {
 nlohmann::json segmentJson(const SegmentError& e) {
   return {{"trans_err_pct", e.trans_err_pct}, {"rot_err_deg_per_m", e.rot_err_deg_per_m}, {"segments", e.segments}};
 }
@@ -85,23 +169,31 @@ std::string formatTable(const EvaluationReport& r) {
   char line[256];
   std::snprintf(line, sizeof(line), "%-8s %14s %16s %12s\n", "metric", "translation", "rotation", "count");
   out << line;
-  auto segment_row = [&](const char* name, const SegmentError& e) {
-    std::snprintf(line, sizeof(line), "%-8s %12.5f %% %10.6f deg/m %8zu seg\n", name, e.trans_err_pct,
-                  e.rot_err_deg_per_m, e.segments);
+  // An undefined error (nothing to average) is "n/a", never a number.
+  auto segment_row = [&](const std::string& name, double trans, double rot, std::size_t segments) {
+    if (segments > 0)
+      std::snprintf(line, sizeof(line), "%-8s %12.5f %% %10.6f deg/m %8zu seg\n", name.c_str(), trans, rot, segments);
+    else
+      std::snprintf(line, sizeof(line), "%-8s %14s %16s %8zu seg\n", name.c_str(), "n/a", "n/a", segments);
     out << line;
   };
   if (r.kitti) {
-    segment_row("kitti", *r.kitti);
+    segment_row("kitti", r.kitti->trans_err_pct, r.kitti->rot_err_deg_per_m, r.kitti->segments);
     for (const auto& pl : r.kitti->per_length) {
-      std::snprintf(line, sizeof(line), "  %4.0f m %12.5f %% %10.6f deg/m %8zu seg\n", pl.length, pl.trans_err_pct,
-                    pl.rot_err_deg_per_m, pl.segments);
-      out << line;
+      char name[16];
+      std::snprintf(name, sizeof(name), "  %4.0f m", pl.length);
+      segment_row(name, pl.trans_err_pct, pl.rot_err_deg_per_m, pl.segments);
     }
+    if (r.kitti->segments == 0 && !r.kitti->per_length.empty())
+      out << "         (no KITTI segment: the ground truth is shorter than " << r.kitti->per_length.front().length << " m)\n";
   }
-  if (r.one_meter) segment_row("1m", *r.one_meter);
+  if (r.one_meter) segment_row("1m", r.one_meter->trans_err_pct, r.one_meter->rot_err_deg_per_m, r.one_meter->segments);
   if (r.frame) {
-    std::snprintf(line, sizeof(line), "%-8s %12.5f m %10.5f deg   %8zu pairs\n", "frame", r.frame->trans_err_m,
-                  r.frame->rot_err_deg, r.frame->pairs);
+    if (r.frame->pairs > 0)
+      std::snprintf(line, sizeof(line), "%-8s %12.5f m %10.5f deg   %8zu pairs\n", "frame", r.frame->trans_err_m,
+                    r.frame->rot_err_deg, r.frame->pairs);
+    else
+      std::snprintf(line, sizeof(line), "%-8s %14s %14s   %8zu pairs\n", "frame", "n/a", "n/a", r.frame->pairs);
     out << line;
   }
   if (r.ate) {

@@ -39,6 +39,11 @@ struct EvaluationReport {
 EvaluationReport evaluate(const PosePairs& pairs, const std::vector<Metric>& metrics,
                           const EvaluationOptions& options = EvaluationOptions());
 
+/// The mean of several runs' reports (e.g. one per scene), for the metrics all of them have: each
+/// error averaged over the runs where it is defined (NaN where none is), segment, pair and pose
+/// counts summed, the KITTI per-length rows averaged row by row.
+EvaluationReport meanReport(const std::vector<EvaluationReport>& reports);
+
 /// The value of the "metrics" key: {"kitti": {...}, ...}, for apps that add their own keys.
 std::string metricsJson(const EvaluationReport& report);
 /// {"metrics": {...}}

@@ -7,6 +7,7 @@
 // rotation; estimates outside the ground truth's time span are dropped).
 
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -27,16 +28,21 @@ struct PosePairs {
 /// different lengths, no overlap in time, fewer than 2 pairs).
 PosePairs associate(const Trajectory& gt, const Trajectory& est);
 
-/// Segment-based relative error (KITTI and 1m metrics).
+/// An error with nothing to average (no segment, no pair) is undefined: NaN, printed "n/a" and
+/// written as JSON null, never 0 (which would read as a perfect estimate).
+constexpr double kUndefinedError = std::numeric_limits<double>::quiet_NaN();
+
+/// Segment-based relative error (KITTI and 1m metrics). Errors are NaN when `segments` is 0, e.g.
+/// the KITTI metric on a trajectory shorter than 100 m.
 struct SegmentError {
   struct PerLength {
     double length = 0;  ///< nominal segment length (m)
-    double trans_err_pct = 0;
-    double rot_err_deg_per_m = 0;
+    double trans_err_pct = kUndefinedError;
+    double rot_err_deg_per_m = kUndefinedError;
     std::size_t segments = 0;
   };
-  double trans_err_pct = 0;      ///< mean over all segments of ‖t(E)‖ / L, in %
-  double rot_err_deg_per_m = 0;  ///< mean over all segments of angle(R(E)) / L, in deg/m
+  double trans_err_pct = kUndefinedError;      ///< mean over all segments of ‖t(E)‖ / L, in %
+  double rot_err_deg_per_m = kUndefinedError;  ///< mean over all segments of angle(R(E)) / L, in deg/m
   std::size_t segments = 0;
   std::vector<PerLength> per_length;
 };
@@ -55,8 +61,8 @@ SegmentError kittiError(const PosePairs& pairs,
 SegmentError oneMeterError(const PosePairs& pairs, double length = 1.0);
 
 struct FrameError {
-  double trans_err_m = 0;   ///< mean ‖t(E)‖ over pairs (m/frame)
-  double rot_err_deg = 0;   ///< mean angle(R(E)) over pairs (deg/frame)
+  double trans_err_m = kUndefinedError;  ///< mean ‖t(E)‖ over pairs (m/frame); NaN without pairs
+  double rot_err_deg = kUndefinedError;  ///< mean angle(R(E)) over pairs (deg/frame); NaN without pairs
   std::size_t pairs = 0;
 };
 

@@ -308,6 +308,7 @@ int main(int argc, char** argv) {
   std::string format, dataroot, version, scene_name, method_name, out_path, out_format_text, metric_text, plot_path, covariance,
       reference_channel, steps_path;
   std::size_t submap = 3, max_cycles = 0, start = 0, sweep_scans = 400;
+  int bins = 3768;
   double grid = 3.0, max_range = 150.0, doppler_thr = 0.25, bin_size = 0.0438, power_shift = 0.333, threshold = 0.333,
          pixel = 0.125;
   std::vector<std::string> sequence_dirs;
@@ -342,6 +343,7 @@ int main(int argc, char** argv) {
     ("pixel", po::value(&pixel)->default_value(0.125), "scanning, cartesian: metres per pixel")
     ("max-range", po::value(&max_range), "nuscenes: drop detections beyond this range (m), default 150; scanning: front-end range limit, default 62.5")
     ("bin-size", po::value(&bin_size)->default_value(0.0438, "0.0438"), "oxford: range bin size (m); the dataset states 0.0438, its SDK uses 0.0432")
+    ("bins", po::value(&bins)->default_value(3768), "oxford: range bins a PNG row must have after its 11 metadata bytes (the CTS350-X's 3768; another Navtech in this layout has its own count); 0 accepts any width")
     ("keyframe-distance", po::value(&keyframe_distance), "scanning: match to a keyframe replaced after this many metres (or 0.1 rad, or a failed match); 0: scan to scan as the paper; default 8")
     ("no-motion-compensation", po::bool_switch(&no_motion_comp), "scanning: do not move points to the scan's reference time (ablation)")
     ("no-prefetch", po::bool_switch(&no_prefetch), "scanning: decode the next scan on the main thread (timing comparison)")
@@ -408,6 +410,8 @@ int main(int argc, char** argv) {
       }
       if (!(bin_size > 0)) throw std::invalid_argument("--bin-size must be > 0");
       o.sequence.oxford.convention.range_resolution = bin_size;
+      if (bins < 0) throw std::invalid_argument("--bins must be >= 0");
+      o.sequence.oxford.expected_bins = bins;
       o.start = start;
       o.max_scans = max_cycles;
       o.prefetch = !no_prefetch;

@@ -69,6 +69,7 @@ json summaryJson(const AutomotiveRunResult& r) {
   j["cycle_period_s"] = r.period_s;
   addStepCounts(j, c);
   j["invalid_velocity_cycles"] = r.invalid_velocity_cycles;
+  j["nonholonomic_velocity_cycles"] = r.nonholonomic_velocity_cycles;
   j["unreadable_files"] = r.problems.size();
   j["detections"] = r.detections;
   j["removed_moving"] = r.removed_moving;
@@ -309,6 +310,8 @@ int main(int argc, char** argv) {
       reference_channel, steps_path;
   std::size_t submap = 3, max_cycles = 0, start = 0, sweep_scans = 400;
   int bins = 3768;
+  double lateral_sigma = 0.05;
+  std::string ego_model = "auto", channels_text;
   double grid = 3.0, max_range = 150.0, doppler_thr = 0.25, bin_size = 0.0438, power_shift = 0.333, threshold = 0.333,
          pixel = 0.125;
   std::vector<std::string> sequence_dirs;
@@ -331,7 +334,10 @@ int main(int argc, char** argv) {
     ("grid", po::value(&grid), "NDT grid size g (m), default 3.0 (nuscenes) or 3.75 (scanning); pcl-icp: max correspondence distance")
     ("covariance", po::value(&covariance)->default_value("polar"), "point covariance: polar (ARS408 range/azimuth spec) | rms (reported x_rms/y_rms)")
     ("reference-channel", po::value(&reference_channel)->default_value(""), "radar channel that clocks the cycles (default: the forward-facing one)")
+    ("channels", po::value(&channels_text)->default_value(""), "nuscenes: comma-separated radar channels to use (default: every radar in sensor.json); one channel runs a one-radar car")
     ("doppler-threshold", po::value(&doppler_thr)->default_value(0.25), "ego-velocity RANSAC inlier and moving-detection threshold on |Doppler − predicted| (m/s)")
+    ("lateral-sigma", po::value(&lateral_sigma)->default_value(0.05, "0.05"), "ego-velocity: σ (m/s) of the prior vy = 0 at the vehicle origin (nuScenes: the rear axle); 0: none, the plain 3-DoF fit")
+    ("ego-model", po::value(&ego_model)->default_value("auto"), "ego-velocity model: auto (full when radars sit at two places or more, else nonholonomic) | full (vx, vy, yaw rate) | nonholonomic (vy = 0: one radar suffices)")
     ("no-gate", po::bool_switch(&no_gate), "accept every converged match: no motion-prior (nor, nuscenes, Doppler chi-square) check (ablation)")
     ("no-time-compensation", po::bool_switch(&no_comp), "do not move each radar's sweep to the reference time (ablation)")
     ("keep-moving", po::bool_switch(&keep_moving), "do not remove detections that disagree with the Doppler ego-velocity (ablation)")
@@ -445,11 +451,26 @@ int main(int argc, char** argv) {
     const TrajectoryFormat out_format = parseTrajectoryFormat(out_format_text);
     AutomotiveRunOptions options;
     options.sequence.reference_channel = reference_channel;
+    for (std::size_t at = 0; at < channels_text.size();) {
+      const std::size_t comma = std::min(channels_text.find(',', at), channels_text.size());
+      if (comma > at) options.sequence.channels.push_back(channels_text.substr(at, comma - at));
+      at = comma + 1;
+    }
     options.sequence.filter.max_range = max_range;
     options.front_end.covariance_model = parsePointCovarianceModel(covariance);
     options.front_end.compensate_time = !no_comp;
     if (!(doppler_thr > 0)) throw std::invalid_argument("--doppler-threshold must be > 0");
     options.front_end.ego_velocity.inlier_threshold = doppler_thr;
+    if (!(lateral_sigma >= 0)) throw std::invalid_argument("--lateral-sigma must be >= 0");
+    options.front_end.ego_velocity.lateral_sigma = lateral_sigma;
+    if (ego_model == "auto")
+      options.front_end.ego_velocity.model = EgoVelocityModel::Auto;
+    else if (ego_model == "full")
+      options.front_end.ego_velocity.model = EgoVelocityModel::Full;
+    else if (ego_model == "nonholonomic")
+      options.front_end.ego_velocity.model = EgoVelocityModel::Nonholonomic;
+    else
+      throw std::invalid_argument("--ego-model must be auto, full or nonholonomic, not '" + ego_model + "'");
     options.front_end.remove_moving = !keep_moving;
     options.odometry.submap_size = submap;
     options.odometry.gate = !no_gate;
@@ -575,6 +596,9 @@ int main(int argc, char** argv) {
         std::printf("  %zu detections, %.1f %% removed as moving; Doppler fit residual %.3f m/s (median), %zu cycles without a valid ego-velocity\n",
                     r.detections, r.detections ? 100.0 * static_cast<double>(r.removed_moving) / static_cast<double>(r.detections) : 0.0,
                     r.median_doppler_residual, r.invalid_velocity_cycles);
+        if (r.nonholonomic_velocity_cycles > 0)
+          std::printf("  ego-velocity with vy = 0 (radars at one place: yaw rate from the single-radar model) in %zu cycles\n",
+                      r.nonholonomic_velocity_cycles);
         std::printf("  ms per cycle (median): read %.2f, front-end %.2f, submap %.2f, match %.2f, total %.2f (%.0fx real time)\n",
                     r.median_ms.read_ms, r.median_ms.front_end_ms, r.median_ms.submap_ms, r.median_ms.match_ms, r.median_total_ms,
                     j["real_time_factor"].get<double>());

@@ -46,6 +46,7 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
     result.detections += processed.raw_points;
     result.removed_moving += processed.removed_moving;
     if (processed.ego.valid) residual.push_back(processed.ego.residual_rms);
+    if (processed.ego.valid && processed.ego.nonholonomic) ++result.nonholonomic_velocity_cycles;
     if (processed.ego.valid) {
       last_valid = processed.ego;
       have_valid = true;

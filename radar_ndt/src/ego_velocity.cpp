@@ -28,6 +28,121 @@ double predictedDoppler(const SensorMounting& m, double px, double py, const Eig
   return modelRow(m, px, py, a) ? a.dot(v) : 0.0;
 }
 
+namespace {
+
+/// The ARS408's Doppler resolution (0.1 km/h ≈ 0.03 m/s): the smallest residual σ a fit may claim.
+constexpr double kDopplerFloor = 0.03;
+/// vy's variance under the nonholonomic model when no lateral σ is set: (1 m/s)², i.e. unknown.
+constexpr double kFreeLateral = 1.0;
+
+/// RANSAC (minimal samples of D detections, MSAC cost) and least squares on the inliers for the
+/// model v_r = a · x with x of dimension D; `full` maps x to (vx, vy, ω) for the plausibility
+/// check. With prior_index ≥ 0 the least squares also observes x[prior_index] = 0 with σ
+/// prior_sigma (RANSAC does not). Returns false when no consensus or a degenerate inlier set;
+/// else x, the normal matrix (prior included), the inlier flags and their residual sum of squares.
+template <int D, typename Full>
+bool fitDoppler(const std::vector<Eigen::Matrix<double, D, 1>>& rows, const std::vector<double>& rhs,
+                const EgoVelocityEstimator::Options& o, Full full, int prior_index, double prior_sigma, Eigen::Matrix<double, D, 1>* x_out,
+                Eigen::Matrix<double, D, D>* ata_out, std::vector<char>* in_out, double* rss_out) {
+  using Vec = Eigen::Matrix<double, D, 1>;
+  using Mat = Eigen::Matrix<double, D, D>;
+  const std::size_t n = rows.size();
+  const double thr = o.inlier_threshold;
+  auto cost = [&](const Vec& x) {
+    std::size_t c = 0;
+    double sum = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double e = std::abs(rows[i].dot(x) - rhs[i]);
+      if (e <= thr) {
+        ++c;
+        sum += e * e;
+      } else {
+        sum += thr * thr;  // MSAC cost: ties between equal counts go to the tighter fit
+      }
+    }
+    return std::make_pair(sum, c);
+  };
+
+  // Deterministic generator (fixed seed, own index draw).
+  std::mt19937 rng(o.seed);
+  auto draw = [&](std::size_t bound) { return static_cast<std::size_t>(rng() % bound); };
+  Vec best = Vec::Zero();
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::size_t best_count = 0;
+  for (int it = 0; it < o.max_iterations; ++it) {
+    std::size_t pick[D];
+    bool distinct = true;
+    for (int k = 0; k < D; ++k) {
+      pick[k] = draw(n);
+      for (int j = 0; j < k; ++j) distinct = distinct && pick[j] != pick[k];
+    }
+    if (!distinct) continue;
+    Mat A;
+    Vec b;
+    for (int k = 0; k < D; ++k) {
+      A.row(k) = rows[pick[k]].transpose();
+      b(k) = rhs[pick[k]];
+    }
+    if (std::abs(A.determinant()) < 1e-3) continue;  // near-collinear directions: ω unobservable
+    const Vec x = A.partialPivLu().solve(b);
+    const Eigen::Vector3d v = full(x);
+    if (!v.allFinite() || v.head<2>().norm() > 100.0 || std::abs(v.z()) > 3.0) continue;  // not a car
+    const auto [c, count] = cost(x);
+    if (c < best_cost) {
+      best_cost = c;
+      best_count = count;
+      best = x;
+    }
+  }
+  if (best_count < static_cast<std::size_t>(D)) return false;
+
+  // Least squares on the inliers, twice (the refit may gain or lose border points).
+  Vec x = best;
+  std::vector<char>& in = *in_out;
+  in.assign(n, 0);
+  Mat AtA;
+  for (int round = 0; round < 2; ++round) {
+    AtA.setZero();
+    Vec Atb = Vec::Zero();
+    std::size_t m = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      in[i] = std::abs(rows[i].dot(x) - rhs[i]) <= thr;
+      if (!in[i]) continue;
+      AtA.noalias() += rows[i] * rows[i].transpose();
+      Atb += rows[i] * rhs[i];
+      ++m;
+    }
+    if (m < static_cast<std::size_t>(D)) return false;
+    if (prior_index >= 0) {
+      // The zero-mean prior on x[prior_index] as one more observation, weighted against the
+      // detections by their residual variance at the current estimate.
+      double r2 = 0;
+      for (std::size_t i = 0; i < n; ++i)
+        if (in[i]) {
+          const double e = rows[i].dot(x) - rhs[i];
+          r2 += e * e;
+        }
+      const double s2 = std::max(r2 / std::max(1.0, static_cast<double>(m) - D), kDopplerFloor * kDopplerFloor);
+      AtA(prior_index, prior_index) += s2 / (prior_sigma * prior_sigma);
+    }
+    const Eigen::LDLT<Mat> ldlt(AtA);
+    if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-9)) return false;
+    x = ldlt.solve(Atb);
+  }
+  double rss = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (in[i]) {
+      const double e = rows[i].dot(x) - rhs[i];
+      rss += e * e;
+    }
+  *x_out = x;
+  *ata_out = AtA;
+  *rss_out = rss;
+  return true;
+}
+
+}  // namespace
+
 EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings,
                                            std::vector<bool>* inlier) const {
   EgoVelocity out;
@@ -35,6 +150,7 @@ EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cl
   std::vector<Eigen::Vector3d> rows;
   std::vector<double> rhs;
   std::vector<std::size_t> index;  // row → point
+  std::vector<std::size_t> per_sensor(mountings.size(), 0);
   rows.reserve(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const PointRadar& p = cloud[i];
@@ -45,90 +161,64 @@ EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cl
     rows.push_back(a);
     rhs.push_back(p.doppler);
     index.push_back(i);
+    ++per_sensor[p.sensor_id];
   }
   const std::size_t n = rows.size();
   out.points = n;
-  if (n < std::max<std::size_t>(3, options_.min_inliers)) return out;
 
-  const double thr = options_.inlier_threshold;
-  auto countInliers = [&](const Eigen::Vector3d& v, double* cost) {
-    std::size_t c = 0;
-    double sum = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double e = std::abs(rows[i].dot(v) - rhs[i]);
-      if (e <= thr) {
-        ++c;
-        sum += e * e;
-      } else {
-        sum += thr * thr;  // MSAC cost: ties between equal counts go to the tighter fit
-      }
-    }
-    *cost = sum;
-    return c;
-  };
-
-  // RANSAC: minimal samples of 3 detections; deterministic generator (fixed seed, own index draw).
-  std::mt19937 rng(options_.seed);
-  auto draw = [&](std::size_t bound) { return static_cast<std::size_t>(rng() % bound); };
-  Eigen::Vector3d best = Eigen::Vector3d::Zero();
-  double best_cost = std::numeric_limits<double>::infinity();
-  std::size_t best_count = 0;
-  for (int it = 0; it < options_.max_iterations; ++it) {
-    const std::size_t i0 = draw(n), i1 = draw(n), i2 = draw(n);
-    if (i0 == i1 || i0 == i2 || i1 == i2) continue;
-    Eigen::Matrix3d A;
-    A.row(0) = rows[i0].transpose();
-    A.row(1) = rows[i1].transpose();
-    A.row(2) = rows[i2].transpose();
-    if (std::abs(A.determinant()) < 1e-3) continue;  // near-collinear directions: ω unobservable
-    const Eigen::Vector3d v = A.partialPivLu().solve(Eigen::Vector3d(rhs[i0], rhs[i1], rhs[i2]));
-    if (!v.allFinite() || v.head<2>().norm() > 100.0 || std::abs(v.z()) > 3.0) continue;  // not a car
-    double cost;
-    const std::size_t c = countInliers(v, &cost);
-    if (cost < best_cost) {
-      best_cost = cost;
-      best_count = c;
-      best = v;
-    }
+  // The full model needs radars at two places at least, each with enough detections to fix its own
+  // velocity: one place sees only its own velocity.
+  bool nonholonomic = options_.model == EgoVelocityModel::Nonholonomic;
+  if (options_.model == EgoVelocityModel::Auto) {
+    auto enough = [&](std::size_t k) { return per_sensor[k] >= options_.min_inliers; };
+    double spread = 0;
+    for (std::size_t a = 0; a < mountings.size(); ++a)
+      for (std::size_t b = a + 1; b < mountings.size(); ++b)
+        if (enough(a) && enough(b))
+          spread = std::max(spread, std::hypot(mountings[a].x - mountings[b].x, mountings[a].y - mountings[b].y));
+    nonholonomic = spread < 0.2;
   }
-  if (best_count < 3) return out;
+  out.nonholonomic = nonholonomic;
+  const std::size_t dims = nonholonomic ? 2 : 3;
+  if (n < std::max(dims, options_.min_inliers)) return out;
 
-  // Least squares on the inliers, twice (the refit may gain or lose border points).
-  Eigen::Vector3d v = best;
-  std::vector<char> in(n, 0);
-  std::size_t m = 0;
-  Eigen::Matrix3d AtA;
-  for (int round = 0; round < 2; ++round) {
-    AtA.setZero();
-    Eigen::Vector3d Atb = Eigen::Vector3d::Zero();
-    m = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      in[i] = std::abs(rows[i].dot(v) - rhs[i]) <= thr;
-      if (!in[i]) continue;
-      AtA.noalias() += rows[i] * rows[i].transpose();
-      Atb += rows[i] * rhs[i];
-      ++m;
-    }
-    if (m < 3) return out;
-    const Eigen::LDLT<Eigen::Matrix3d> ldlt(AtA);
-    if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-9)) return out;
-    v = ldlt.solve(Atb);
-  }
+  std::vector<char> in;
   double rss = 0;
-  std::size_t m_final = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!in[i]) continue;
-    const double e = rows[i].dot(v) - rhs[i];
-    rss += e * e;
-    ++m_final;
+  if (nonholonomic) {
+    // vy = 0: the row keeps the vx and ω columns.
+    std::vector<Eigen::Vector2d> rows2;
+    rows2.reserve(n);
+    for (const auto& a : rows) rows2.emplace_back(a.x(), a.z());
+    Eigen::Vector2d x;
+    Eigen::Matrix2d AtA;
+    if (!fitDoppler<2>(rows2, rhs, options_, [](const Eigen::Vector2d& y) { return Eigen::Vector3d(y.x(), 0.0, y.y()); }, -1, 0.0, &x,
+                       &AtA, &in, &rss))
+      return out;
+    out.velocity = Eigen::Vector3d(x.x(), 0.0, x.y());
+    const Eigen::Matrix2d C = AtA.inverse();
+    out.covariance.setZero();
+    out.covariance(0, 0) = C(0, 0);
+    out.covariance(0, 2) = out.covariance(2, 0) = C(0, 1);
+    out.covariance(2, 2) = C(1, 1);
+  } else {
+    Eigen::Vector3d x;
+    Eigen::Matrix3d AtA;
+    const bool prior = options_.lateral_sigma > 0;
+    if (!fitDoppler<3>(rows, rhs, options_, [](const Eigen::Vector3d& y) { return y; }, prior ? 1 : -1, options_.lateral_sigma, &x, &AtA,
+                       &in, &rss))
+      return out;
+    out.velocity = x;
+    out.covariance = AtA.inverse();
   }
-  out.velocity = v;
+  std::size_t m_final = 0;
+  for (std::size_t i = 0; i < n; ++i) m_final += in[i] != 0;
   out.inliers = m_final;
   out.residual_rms = std::sqrt(rss / static_cast<double>(m_final));
   // σ² from the residuals, floored at the ARS408's Doppler resolution (0.1 km/h ≈ 0.03 m/s) so a
   // lucky tight fit does not claim more than the sensor can give.
-  const double sigma2 = std::max(rss / static_cast<double>(std::max<std::size_t>(m_final, 4) - 3), 0.03 * 0.03);
-  out.covariance = sigma2 * AtA.inverse();
+  const double sigma2 = std::max(rss / static_cast<double>(std::max(m_final, dims + 1) - dims), kDopplerFloor * kDopplerFloor);
+  out.covariance *= sigma2;
+  if (nonholonomic) out.covariance(1, 1) = options_.lateral_sigma > 0 ? options_.lateral_sigma * options_.lateral_sigma : kFreeLateral;
   out.valid = m_final >= options_.min_inliers &&
               static_cast<double>(m_final) >= options_.min_inlier_ratio * static_cast<double>(n) && out.covariance.allFinite();
   if (inlier)

@@ -12,11 +12,29 @@ namespace radar_ndt {
 NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene, const Options& options)
     : scene_name_(scene.name), options_(options), sweeps_(dataset.radarSweeps(scene)) {
   if (sweeps_.empty()) throw std::invalid_argument("scene " + scene.name + " has no radar sweeps");
+  const auto& channels = dataset.radarChannels();
+  if (!options.channels.empty()) {
+    std::vector<char> wanted(channels.size(), 0);
+    for (const auto& name : options.channels) {
+      std::size_t i = 0;
+      while (i < channels.size() && channels[i] != name) ++i;
+      if (i == channels.size()) {
+        std::string names;
+        for (const auto& c : channels) names += (names.empty() ? "" : ", ") + c;
+        throw std::invalid_argument("no radar channel '" + name + "' (radar channels: " + names + ")");
+      }
+      wanted[i] = 1;
+    }
+    std::vector<NuScenesSweep> kept;
+    for (auto& s : sweeps_)
+      if (s.channel_index < wanted.size() && wanted[s.channel_index]) kept.push_back(std::move(s));
+    sweeps_.swap(kept);
+    if (sweeps_.empty()) throw std::invalid_argument("scene " + scene.name + " has no sweeps of the chosen radar channels");
+  }
   // The forward-facing radar: mounting yaw closest to 0 (ties: the one further forward).
   std::map<std::uint16_t, SensorMounting> mount;
   for (const auto& s : sweeps_)
     if (!mount.count(s.channel_index)) mount[s.channel_index] = toMounting(s.sensor_to_ego);
-  const auto& channels = dataset.radarChannels();
   int ref = -1;
   if (!options.reference_channel.empty()) {
     for (const auto& [idx, m] : mount)

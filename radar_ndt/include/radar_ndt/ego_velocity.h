@@ -4,7 +4,18 @@
 // by a sensor mounted at (mx, my) in the vehicle frame, in direction φ (vehicle axes), has
 //   v_r = −[cos φ, sin φ, mx sin φ − my cos φ] · [vx, vy, ω]ᵀ
 // (the sensor moves with v + ω × m). RANSAC on that linear model rejects moving objects and ghosts,
-// then least squares on the inliers gives the estimate and its 3x3 covariance.
+// then least squares on the inliers gives the estimate and its 3x3 covariance. Beyond the paper,
+// the least squares also observes vy = 0 with σ Options::lateral_sigma: the vehicle frame's origin
+// (nuScenes: the rear axle) barely slides sideways, and without that prior the poorly observed vy
+// trades against ω (README, "Automotive pipeline").
+//
+// One radar (or several at one place) sees only its own velocity, 2 of the 3 unknowns: ω × m is
+// then indistinguishable from a sideways v. There the estimator falls back to the single-radar
+// method of Kellner et al. 2013 ("Instantaneous ego-motion estimation using Doppler radar"): the
+// vehicle does not slide sideways at the vehicle frame's origin (vy = 0; nuScenes' ego frame is the
+// rear axle's midpoint, where that holds for a car off the limit), leaving
+//   v_r = −[cos φ, mx sin φ − my cos φ] · [vx, ω]ᵀ,
+// solvable when the radar sits off the rear axle (mx ≠ 0).
 
 #include <cstdint>
 #include <vector>
@@ -22,6 +33,13 @@ struct SensorMounting {
   bool valid = false;  ///< false for sensor ids no sweep of this cycle came from
 };
 
+/// Which kinematic model the Doppler fit uses.
+enum class EgoVelocityModel {
+  Auto,          ///< Full when the radars with detections sit at least 0.2 m apart, else Nonholonomic
+  Full,          ///< (vx, vy, ω) free: needs radars at two or more places (Kellner 2014)
+  Nonholonomic,  ///< vy = 0 at the vehicle frame's origin, (vx, ω) fitted (Kellner 2013)
+};
+
 /// Ego-velocity (vx, vy, yaw rate) in the vehicle frame, m/s and rad/s.
 struct EgoVelocity {
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
@@ -30,6 +48,9 @@ struct EgoVelocity {
   std::size_t inliers = 0;  ///< detections consistent with the estimate (stationary)
   double residual_rms = 0;  ///< of the inliers (m/s)
   bool valid = false;       ///< false: too few or degenerate detections; velocity then meaningless
+  /// The fit used vy = 0 (EgoVelocityModel::Nonholonomic, chosen or forced); vy's variance is then
+  /// Options::lateral_sigma², uncorrelated.
+  bool nonholonomic = false;
 };
 
 /// Doppler a stationary point at (px, py) (vehicle frame) shows to the sensor `m` when the vehicle
@@ -44,6 +65,13 @@ class EgoVelocityEstimator {
     std::size_t min_inliers = 6;
     double min_inlier_ratio = 0.2;  ///< below this the cycle is called invalid (mostly moving scene)
     std::uint32_t seed = 42;        ///< fixed: the same input gives the same answer
+    EgoVelocityModel model = EgoVelocityModel::Auto;
+    /// m/s, 1σ: how far vy ≈ 0 at the vehicle frame's origin is trusted. The full model's least
+    /// squares observes vy = 0 with this σ (a prior: 300 detections still outweigh it when they
+    /// see a slide); the nonholonomic model reports it as vy's σ. A car's side slip at the rear axle
+    /// is about 0.3° at 2 m/s² lateral acceleration, 0.05 m/s at 10 m/s. 0: no prior (Kellner
+    /// 2014 as published; the nonholonomic model then reports vy's σ as 1 m/s).
+    double lateral_sigma = 0.05;
   };
 
   EgoVelocityEstimator() = default;

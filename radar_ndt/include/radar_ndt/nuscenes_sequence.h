@@ -19,6 +19,9 @@ class NuScenesRadarSequence {
     NuScenesRadarFilter filter;
     /// Channel that clocks the cycles; empty: the radar mounted closest to straight ahead.
     std::string reference_channel;
+    /// Radar channels used (names from sensor.json); empty: every radar channel. A car with one
+    /// radar is one channel (its ego-velocity then takes the nonholonomic model, EgoVelocityModel).
+    std::vector<std::string> channels;
   };
 
   NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene, const Options& options);

@@ -21,15 +21,6 @@ bool modelRow(const SensorMounting& m, double px, double py, Eigen::Vector3d& a)
   return true;
 }
 
-}  // namespace
-
-double predictedDoppler(const SensorMounting& m, double px, double py, const Eigen::Vector3d& v) {
-  Eigen::Vector3d a;
-  return modelRow(m, px, py, a) ? a.dot(v) : 0.0;
-}
-
-namespace {
-
 /// The ARS408's Doppler resolution (0.1 km/h ≈ 0.03 m/s): the smallest residual σ a fit may claim.
 constexpr double kDopplerFloor = 0.03;
 /// vy's variance under the nonholonomic model when no lateral σ is set: (1 m/s)², i.e. unknown.
@@ -142,6 +133,11 @@ bool fitDoppler(const std::vector<Eigen::Matrix<double, D, 1>>& rows, const std:
 }
 
 }  // namespace
+
+double predictedDoppler(const SensorMounting& m, double px, double py, const Eigen::Vector3d& v) {
+  Eigen::Vector3d a;
+  return modelRow(m, px, py, a) ? a.dot(v) : 0.0;
+}
 
 EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings,
                                            std::vector<bool>* inlier) const {

@@ -86,9 +86,7 @@ bool decodePngSamples(PngReadContext& ctx, bool& header_done) {
   int bit_depth = 0, color_type = 0, interlace = 0;
   png_get_IHDR(png, info, &ctx.width, &ctx.height, &bit_depth, &color_type, &interlace, nullptr, nullptr);
   const bool palette = color_type == PNG_COLOR_TYPE_PALETTE;
-  if (bit_depth == 16) {
-    ctx.refusal = "expected an 8-bit grayscale PNG, found 16-bit samples";
-  } else if (bit_depth != 8 && !palette) {
+  if (bit_depth != 8 && !palette) {
     ctx.refusal = "expected an 8-bit grayscale PNG, found " + std::to_string(bit_depth) + "-bit samples";
   } else {
     const std::size_t pixels = static_cast<std::size_t>(ctx.width) * ctx.height;

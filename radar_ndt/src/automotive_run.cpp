@@ -45,9 +45,9 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
     const auto t2 = Clock::now();
     result.detections += processed.raw_points;
     result.removed_moving += processed.removed_moving;
-    if (processed.ego.valid) residual.push_back(processed.ego.residual_rms);
-    if (processed.ego.valid && processed.ego.nonholonomic) ++result.nonholonomic_velocity_cycles;
     if (processed.ego.valid) {
+      residual.push_back(processed.ego.residual_rms);
+      if (processed.ego.nonholonomic) ++result.nonholonomic_velocity_cycles;
       last_valid = processed.ego;
       have_valid = true;
     } else {

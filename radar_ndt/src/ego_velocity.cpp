@@ -96,23 +96,20 @@ bool fitDoppler(const std::vector<Eigen::Matrix<double, D, 1>>& rows, const std:
     AtA.setZero();
     Vec Atb = Vec::Zero();
     std::size_t m = 0;
+    double r2 = 0;  // the inliers' residual sum of squares at the current x
     for (std::size_t i = 0; i < n; ++i) {
-      in[i] = std::abs(rows[i].dot(x) - rhs[i]) <= thr;
+      const double e = rows[i].dot(x) - rhs[i];
+      in[i] = std::abs(e) <= thr;
       if (!in[i]) continue;
       AtA.noalias() += rows[i] * rows[i].transpose();
       Atb += rows[i] * rhs[i];
+      r2 += e * e;
       ++m;
     }
     if (m < static_cast<std::size_t>(D)) return false;
     if (prior_index >= 0) {
       // The zero-mean prior on x[prior_index] as one more observation, weighted against the
       // detections by their residual variance at the current estimate.
-      double r2 = 0;
-      for (std::size_t i = 0; i < n; ++i)
-        if (in[i]) {
-          const double e = rows[i].dot(x) - rhs[i];
-          r2 += e * e;
-        }
       const double s2 = std::max(r2 / std::max(1.0, static_cast<double>(m) - D), kDopplerFloor * kDopplerFloor);
       AtA(prior_index, prior_index) += s2 / (prior_sigma * prior_sigma);
     }

@@ -107,16 +107,12 @@ EvaluationReport meanReport(const std::vector<EvaluationReport>& reports) {
     return true;
   };
   for (const auto& r : reports) mean.associated_poses += r.associated_poses;
-  if (all([](const EvaluationReport& r) { return r.kitti.has_value(); })) {
-    std::vector<const SegmentError*> runs;
-    for (const auto& r : reports) runs.push_back(&*r.kitti);
-    mean.kitti = meanSegments(runs);
-  }
-  if (all([](const EvaluationReport& r) { return r.one_meter.has_value(); })) {
-    std::vector<const SegmentError*> runs;
-    for (const auto& r : reports) runs.push_back(&*r.one_meter);
-    mean.one_meter = meanSegments(runs);
-  }
+  for (auto metric : {&EvaluationReport::kitti, &EvaluationReport::one_meter})
+    if (all([&](const EvaluationReport& r) { return (r.*metric).has_value(); })) {
+      std::vector<const SegmentError*> runs;
+      for (const auto& r : reports) runs.push_back(&*(r.*metric));
+      mean.*metric = meanSegments(runs);
+    }
   if (all([](const EvaluationReport& r) { return r.frame.has_value(); })) {
     FrameError f;
     DefinedMean t, rot;

@@ -9,6 +9,16 @@
 
 namespace radar_ndt {
 
+namespace {
+/// "A, B, C": for messages that list the channels there are.
+template <typename Range, typename Name>
+std::string joinNames(const Range& range, Name name) {
+  std::string names;
+  for (const auto& item : range) names += (names.empty() ? "" : ", ") + name(item);
+  return names;
+}
+}  // namespace
+
 NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene, const Options& options)
     : scene_name_(scene.name), options_(options), sweeps_(dataset.radarSweeps(scene)) {
   if (sweeps_.empty()) throw std::invalid_argument("scene " + scene.name + " has no radar sweeps");
@@ -18,11 +28,9 @@ NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, con
     for (const auto& name : options.channels) {
       std::size_t i = 0;
       while (i < channels.size() && channels[i] != name) ++i;
-      if (i == channels.size()) {
-        std::string names;
-        for (const auto& c : channels) names += (names.empty() ? "" : ", ") + c;
-        throw std::invalid_argument("no radar channel '" + name + "' (radar channels: " + names + ")");
-      }
+      if (i == channels.size())
+        throw std::invalid_argument("no radar channel '" + name + "' (radar channels: " +
+                                    joinNames(channels, [](const std::string& c) { return c; }) + ")");
       wanted[i] = 1;
     }
     std::vector<NuScenesSweep> kept;
@@ -39,12 +47,9 @@ NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, con
   if (!options.reference_channel.empty()) {
     for (const auto& [idx, m] : mount)
       if (channels[idx] == options.reference_channel) ref = idx;
-    if (ref < 0) {
-      std::string names;
-      for (const auto& [idx, m] : mount) names += (names.empty() ? "" : ", ") + channels[idx];
+    if (ref < 0)
       throw std::invalid_argument("reference channel '" + options.reference_channel + "' has no sweeps in " + scene.name +
-                                  " (radar channels: " + names + ")");
-    }
+                                  " (radar channels: " + joinNames(mount, [&](const auto& e) { return channels[e.first]; }) + ")");
   } else {
     double best = 1e9;
     for (const auto& [idx, m] : mount) {

@@ -373,6 +373,27 @@ TEST(WeightedNDT2D, SourceVoxelMergeKeepsTheAnswer) {
   }
 }
 
+// The merge keys voxels in a dense table when the source's extent is compact (a scan) and in a hash
+// when it is not (one far point stretches it): the same merged points in the same order, so the
+// same answer bit for bit (the far point meets no cell).
+TEST(WeightedNDT2D, SourceVoxelMergeIsTheSameThroughEitherTable) {
+  const auto pair = noisyPair(24, 8000);
+  SyntheticScanPair stretched = pair;
+  PointRadar far = pair.source.front();
+  far.x = 2.0e5f;
+  far.y = -3.0e5f;
+  stretched.source.push_back(far);
+  WeightedNDT2D<PointRadar, PointRadar> dense, hashed;
+  const auto a = alignPair(pair, Pose2::Zero(), dense);
+  const auto b = alignPair(stretched, Pose2::Zero(), hashed);
+  EXPECT_EQ(hashed.getNumSourcePoints(), dense.getNumSourcePoints() + 1);
+  EXPECT_EQ(dense.getFinalTransformation(), hashed.getFinalTransformation());
+  EXPECT_EQ(dense.getNdtScore(), hashed.getNdtScore());
+  EXPECT_EQ(dense.getNumMatchedPoints(), hashed.getNumMatchedPoints());
+  expectClose(a.pose, pair.source_in_target, 0.02, 0.1);
+  EXPECT_TRUE(b.converged);
+}
+
 // The cell index answers the same through its dense table (compact keys, after finalize()) as
 // through the hash (sparse keys, or after a later add()).
 TEST(CellIndexHash, DenseTableAgreesWithTheHash) {

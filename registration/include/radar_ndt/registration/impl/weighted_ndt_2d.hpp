@@ -310,20 +310,60 @@ void WeightedNDT2D<PointSource, PointTarget>::prepareSource() {
   // against the cells' spread; evaluation time drops with the point count.
   const double v = source_voxel_size_;  // >= 0, the setter clamps it
   if (v > 0 && source_points_.size() > 1) {
+    // Points beyond any sensible extent cannot be keyed; they are dropped.
+    source_points_.erase(std::remove_if(source_points_.begin(), source_points_.end(),
+                                        [v](const detail::WeightedPoint2D& p) {
+                                          return !(std::abs(p.x / v) < 1e9 && std::abs(p.y / v) < 1e9);
+                                        }),
+                         source_points_.end());
+    const std::size_t n = source_points_.size();
+    std::vector<std::int32_t> keys(2 * n);
+    std::int32_t x0 = std::numeric_limits<std::int32_t>::max(), y0 = x0;
+    std::int32_t x1 = std::numeric_limits<std::int32_t>::min(), y1 = x1;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::int32_t kx = detail::floorToInt(source_points_[i].x / v);
+      const std::int32_t ky = detail::floorToInt(source_points_[i].y / v);
+      keys[2 * i] = kx;
+      keys[2 * i + 1] = ky;
+      x0 = std::min(x0, kx);
+      x1 = std::max(x1, kx);
+      y0 = std::min(y0, ky);
+      y1 = std::max(y1, ky);
+    }
     std::vector<detail::WeightedPoint2D> merged;  // (Σ w x, Σ w y, Σ w), in order of first point
-    merged.reserve(source_points_.size());
-    detail::KeyIndexMap map(source_points_.size());
-    for (const auto& p : source_points_) {
-      const double u = p.x / v, w = p.y / v;
-      if (!(std::abs(u) < 1e9 && std::abs(w) < 1e9)) continue;  // beyond any sensible extent
-      bool inserted = false;
-      const std::int32_t i = map.findOrInsert(detail::floorToInt(u), detail::floorToInt(w),
-                                              static_cast<std::int32_t>(merged.size()), inserted);
-      if (inserted) merged.push_back({0, 0, 0});
-      auto& m = merged[static_cast<std::size_t>(i)];
+    merged.reserve(n);
+    auto accumulate = [&](std::int32_t slot, const detail::WeightedPoint2D& p) {
+      auto& m = merged[static_cast<std::size_t>(slot)];
       m.x += p.w * p.x;
       m.y += p.w * p.y;
       m.w += p.w;
+    };
+    const std::int64_t width = std::int64_t(x1) - x0 + 1, height = std::int64_t(y1) - y0 + 1;
+    // A compact extent (a scan, a submap): a dense table of voxel slots, filled in far less time than
+    // hashing the points takes (at most 64 slots a point beyond 1 MB, and never over 16 MB).
+    // Neighbouring points share table rows, where a hash scatters them; both keep first-seen order,
+    // so the merged points are the same either way.
+    const std::int64_t slots = width * height;
+    if (n > 0 && slots <= std::min<std::int64_t>(64 * static_cast<std::int64_t>(n) + (1 << 18), 1 << 22)) {
+      voxel_table_.assign(static_cast<std::size_t>(slots), -1);
+      for (std::size_t i = 0; i < n; ++i) {
+        std::int32_t& slot = voxel_table_[static_cast<std::size_t>(std::int64_t(keys[2 * i] - x0) * height +
+                                                                   (keys[2 * i + 1] - y0))];
+        if (slot < 0) {
+          slot = static_cast<std::int32_t>(merged.size());
+          merged.push_back({0, 0, 0});
+        }
+        accumulate(slot, source_points_[i]);
+      }
+    } else {
+      detail::KeyIndexMap map(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        bool inserted = false;
+        const std::int32_t slot =
+            map.findOrInsert(keys[2 * i], keys[2 * i + 1], static_cast<std::int32_t>(merged.size()), inserted);
+        if (inserted) merged.push_back({0, 0, 0});
+        accumulate(slot, source_points_[i]);
+      }
     }
     for (auto& m : merged) {
       m.x /= m.w;

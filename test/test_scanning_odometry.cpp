@@ -208,9 +208,9 @@ TEST(ScanningOdometry, FaultyFramesAreReportedBridgedAndCostOnlyTheirNeighbours)
   EXPECT_EQ(r.counters.fallbacks, 1u);
 
   // Frames not next to a fault move as in the clean run; the ones next to one stay close. Not
-  // bit-identical here: each scan is motion-compensated with a velocity estimated from the matches
-  // before it, and keyframes are chosen by estimated distance, so a different estimate next to a
-  // fault moves later matches by their noise (a few cm; the paper's configuration below is exact).
+  // bit-identical here: each scan, and so each keyframe, is motion-compensated with a velocity
+  // estimated from the matches before it, so a different estimate next to a fault moves later
+  // matches by their noise (a few cm; the paper's configuration, below, meets the clean run again).
   const auto [worst_far, worst_near] = largestMotionChanges(clean, r, sequence);
   EXPECT_LT(worst_far, 0.08) << "a frame not next to a fault";
   EXPECT_LT(worst_near, 0.3) << "a frame next to a fault is bridged with the motion model";
@@ -222,8 +222,8 @@ TEST(ScanningOdometry, ThePapersConfigurationReconvergesToTheCleanRunAfterAFault
   // and its guess. A fault leaves a different guess behind for a few frames, which can land the
   // match a few cm away (NDT's optimum moves where points change cells), but then the runs meet
   // again: the frames from the second after the last fault on move as in the clean run up to float
-  // rounding. (The default pipeline compensates each scan with a velocity from the matches before
-  // it and chains keyframes by estimated distance, so its differences persist: test above.)
+  // rounding. (The default pipeline compensates each scan, and so each keyframe, with a velocity
+  // from matches against compensated scans before it, so its differences persist: test above.)
   const std::string dir = test::freshTempDir("scanning_faults_paper");
   ScanningRunOptions options;
   options.odometry.scanning.keyframe_distance = 0.0;

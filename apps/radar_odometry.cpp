@@ -451,11 +451,10 @@ int main(int argc, char** argv) {
     const TrajectoryFormat out_format = parseTrajectoryFormat(out_format_text);
     AutomotiveRunOptions options;
     options.sequence.reference_channel = reference_channel;
-    for (std::size_t at = 0; at < channels_text.size();) {  // "A,B" or "A, B"
-      const std::size_t comma = std::min(channels_text.find(',', at), channels_text.size());
-      const std::size_t b = channels_text.find_first_not_of(' ', at), e = channels_text.find_last_not_of(' ', comma - 1);
-      if (b < comma && e != std::string::npos && e >= b) options.sequence.channels.push_back(channels_text.substr(b, e - b + 1));
-      at = comma + 1;
+    std::stringstream channel_list(channels_text);  // "A,B" or "A, B"
+    for (std::string name; std::getline(channel_list, name, ',');) {
+      const std::size_t b = name.find_first_not_of(' ');
+      if (b != std::string::npos) options.sequence.channels.push_back(name.substr(b, name.find_last_not_of(' ') - b + 1));
     }
     options.sequence.filter.max_range = max_range;
     options.front_end.covariance_model = parsePointCovarianceModel(covariance);

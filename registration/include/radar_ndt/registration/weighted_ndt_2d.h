@@ -350,7 +350,8 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   std::vector<detail::NdtGrid> grids_;  // one per resolution, coarse to fine
   bool model_stale_ = false;            // a setting changed since grids_ was built
   std::vector<detail::WeightedPoint2D> source_points_;
-  std::vector<std::int32_t> voxel_table_;  // scratch of prepareSource's dense voxel merge
+  std::vector<std::int32_t> voxel_keys_;   // scratch of prepareSource's voxel merge: each point's key
+  std::vector<std::int32_t> voxel_table_;  // and the dense table of voxel slots
 
   int final_num_iterations_ = 0;
   Eigen::Matrix3d final_hessian_ = Eigen::Matrix3d::Zero();

@@ -304,26 +304,27 @@ void WeightedNDT2D<PointSource, PointTarget>::prepareSource() {
   // against the cells' spread; evaluation time drops with the point count.
   const double v = source_voxel_size_;  // >= 0, the setter clamps it
   if (v > 0 && source_points_.size() > 1) {
-    // Points beyond any sensible extent cannot be keyed; they are dropped.
-    source_points_.erase(std::remove_if(source_points_.begin(), source_points_.end(),
-                                        [v](const detail::WeightedPoint2D& p) {
-                                          return !(std::abs(p.x / v) < 1e9 && std::abs(p.y / v) < 1e9);
-                                        }),
-                         source_points_.end());
-    const std::size_t n = source_points_.size();
-    std::vector<std::int32_t> keys(2 * n);
+    // Each point's voxel key and the keys' extent, in one pass; points beyond any sensible extent
+    // cannot be keyed and are dropped (the rest keep their order).
+    std::vector<std::int32_t>& keys = voxel_keys_;
+    keys.resize(2 * source_points_.size());
     std::int32_t x0 = std::numeric_limits<std::int32_t>::max(), y0 = x0;
     std::int32_t x1 = std::numeric_limits<std::int32_t>::min(), y1 = x1;
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::int32_t kx = detail::floorToInt(source_points_[i].x / v);
-      const std::int32_t ky = detail::floorToInt(source_points_[i].y / v);
-      keys[2 * i] = kx;
-      keys[2 * i + 1] = ky;
+    std::size_t n = 0;
+    for (const auto& p : source_points_) {
+      const double u = p.x / v, w = p.y / v;
+      if (!(std::abs(u) < 1e9 && std::abs(w) < 1e9)) continue;
+      const std::int32_t kx = detail::floorToInt(u), ky = detail::floorToInt(w);
+      source_points_[n] = p;
+      keys[2 * n] = kx;
+      keys[2 * n + 1] = ky;
+      ++n;
       x0 = std::min(x0, kx);
       x1 = std::max(x1, kx);
       y0 = std::min(y0, ky);
       y1 = std::max(y1, ky);
     }
+    source_points_.resize(n);
     std::vector<detail::WeightedPoint2D> merged;  // (Σ w x, Σ w y, Σ w), in order of first point
     merged.reserve(n);
     auto accumulate = [&](std::int32_t slot, const detail::WeightedPoint2D& p) {

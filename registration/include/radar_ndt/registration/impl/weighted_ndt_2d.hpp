@@ -463,7 +463,10 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
   };
 
   if (grids_.empty() || grids_.back().cells.empty() || source_points_.empty()) {
-    PCL_ERROR("[radar_ndt::%s::computeTransformation] degenerate problem: %zu target cells, %zu weighted source "
+    // Not an error of the call: the data left nothing to match (e.g. Doppler weights that agree
+    // with no point, in the source or in the target: the last cycle's weighted submap). hasConverged()
+    // and wasDegenerate() report it, as for too few matched points below, without a message a scan.
+    PCL_DEBUG("[radar_ndt::%s::computeTransformation] degenerate problem: %zu target cells, %zu weighted source "
               "points\n",
               reg_name_.c_str(), grids_.empty() ? std::size_t(0) : grids_.back().cells.size(), source_points_.size());
     degenerate_ = true;

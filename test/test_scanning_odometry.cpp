@@ -209,8 +209,10 @@ TEST(ScanningOdometry, FaultyFramesAreReportedBridgedAndCostOnlyTheirNeighbours)
 
   // Frames not next to a fault move as in the clean run; the ones next to one stay close. Not
   // bit-identical here: each scan, and so each keyframe, is motion-compensated with a velocity
-  // estimated from the matches before it, so a different estimate next to a fault moves later
-  // matches by their noise (a few cm; the paper's configuration, below, meets the clean run again).
+  // estimated from the matches before it, a fault can shift the keyframe schedule by a scan for
+  // good, and a match that stops at its guess carries the guess's difference on, so a different
+  // estimate next to a fault moves later matches by their noise (a few cm; README, "Scanning radar
+  // odometry"; the paper's configuration, below, meets the clean run again).
   const auto [worst_far, worst_near] = largestMotionChanges(clean, r, sequence);
   EXPECT_LT(worst_far, 0.08) << "a frame not next to a fault";
   EXPECT_LT(worst_near, 0.3) << "a frame next to a fault is bridged with the motion model";

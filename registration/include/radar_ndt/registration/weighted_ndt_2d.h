@@ -352,6 +352,7 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   std::vector<detail::WeightedPoint2D> source_points_;
   std::vector<std::int32_t> voxel_keys_;   // scratch of prepareSource's voxel merge: each point's key
   std::vector<std::int32_t> voxel_table_;  // and the dense table of voxel slots
+  std::vector<detail::WeightedPoint2D> voxel_merged_;  // and the merged points (then the previous source)
 
   int final_num_iterations_ = 0;
   Eigen::Matrix3d final_hessian_ = Eigen::Matrix3d::Zero();

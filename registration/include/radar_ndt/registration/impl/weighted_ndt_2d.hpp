@@ -325,7 +325,10 @@ void WeightedNDT2D<PointSource, PointTarget>::prepareSource() {
       y1 = std::max(y1, ky);
     }
     source_points_.resize(n);
-    std::vector<detail::WeightedPoint2D> merged;  // (Σ w x, Σ w y, Σ w), in order of first point
+    // (Σ w x, Σ w y, Σ w), in order of first point; swapped with source_points_ below, so the two
+    // buffers take turns and neither is allocated again while scans keep their size.
+    std::vector<detail::WeightedPoint2D>& merged = voxel_merged_;
+    merged.clear();
     merged.reserve(n);
     auto accumulate = [&](std::int32_t slot, const detail::WeightedPoint2D& p) {
       auto& m = merged[static_cast<std::size_t>(slot)];

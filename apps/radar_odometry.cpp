@@ -241,6 +241,7 @@ int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const st
     rows.push_back(run("ablation", name, o));
   };
   ablate("power shift off (s = 0)", [](ScanningRunOptions& o) { o.odometry.scanning.power_shift = 0; });
+  ablate("shift in the cells only", [](ScanningRunOptions& o) { o.odometry.scanning.shift_source_weights = false; });
   for (const float t : {0.2f, 0.3f, 0.4f, 0.5f}) {
     std::snprintf(label, sizeof label, "threshold = s = %.1f", static_cast<double>(t));
     ablate(label, [t](ScanningRunOptions& o) {
@@ -316,7 +317,7 @@ int main(int argc, char** argv) {
          pixel = 0.125;
   std::vector<std::string> sequence_dirs;
   std::string map_path, points_path = "cartesian";
-  bool no_motion_comp = false, no_prefetch = false;
+  bool no_motion_comp = false, no_prefetch = false, no_source_shift = false;
   double keyframe_distance = 0;
   bool no_gate = false, no_comp = false, keep_moving = false, eval = false, json_out = false, quiet = false, table = false;
   po::options_description opts("Options");
@@ -351,6 +352,7 @@ int main(int argc, char** argv) {
     ("bin-size", po::value(&bin_size)->default_value(0.0438, "0.0438"), "oxford: range bin size (m); the dataset states 0.0438, its SDK uses 0.0432")
     ("bins", po::value(&bins)->default_value(3768), "oxford: range bins a PNG row must have after its 11 metadata bytes (the CTS350-X's 3768; another Navtech in this layout has its own count); 0 accepts any width")
     ("keyframe-distance", po::value(&keyframe_distance), "scanning: match to a keyframe replaced after this many metres (or 0.1 rad, or a failed match); 0: scan to scan as the paper; default 8")
+    ("no-source-shift", po::bool_switch(&no_source_shift), "scanning, pw-ndt: shift the cells' weights (eq. 1) only; the matching weights are p·exp(-(σx+σy)/2) (ablation; the paper shifts both)")
     ("no-motion-compensation", po::bool_switch(&no_motion_comp), "scanning: do not move points to the scan's reference time (ablation)")
     ("no-prefetch", po::bool_switch(&no_prefetch), "scanning: decode the next scan on the main thread (timing comparison)")
     ("map", po::value(&map_path), "scanning: write a top-view PNG of all scans at their estimated poses (0.2 m/pixel)")
@@ -371,8 +373,9 @@ int main(int argc, char** argv) {
       "                      [--submap N] [--grid G] [--out traj.txt] [--out-format kitti|tum] [--eval] [--metric 1m|kitti|frame|all]\n"
       "                      [--json] [--plot out.svg] [--table]\n"
       "       radar_odometry --format oxford|radiate --sequence DIR... [--table] [--method pw-ndt|pcl-ndt|pcl-icp] [--grid G]\n"
-      "                      [--threshold T] [--power-shift S] [--points cartesian|polar] [--no-motion-compensation]\n"
-      "                      [--out traj.txt] [--eval] [--metric kitti|frame|all] [--json] [--plot out.svg] [--map top.png]\n"
+      "                      [--threshold T] [--power-shift S] [--no-source-shift] [--points cartesian|polar]\n"
+      "                      [--no-motion-compensation] [--out traj.txt] [--eval] [--metric kitti|frame|all] [--json]\n"
+      "                      [--plot out.svg] [--map top.png]\n"
       "nuscenes: one pose per radar cycle (one sweep of every radar, clocked by the reference radar), the\n"
       "vehicle frame at the reference sweep's timestamp. Unreadable sweeps are reported and left out of their cycle.\n"
       "oxford|radiate: one pose per scan, the vehicle at the scan's timestamp (the first azimuth's); each scan\n"
@@ -399,6 +402,7 @@ int main(int argc, char** argv) {
       if (!(power_shift >= 0 && power_shift < 1)) throw std::invalid_argument("--power-shift must be in [0, 1)");
       sc.power_shift = static_cast<float>(power_shift);
       sc.motion_compensation = !no_motion_comp;
+      sc.shift_source_weights = !no_source_shift;
       if (vm.count("keyframe-distance")) {
         if (!(keyframe_distance >= 0)) throw std::invalid_argument("--keyframe-distance must be >= 0");
         sc.keyframe_distance = keyframe_distance;

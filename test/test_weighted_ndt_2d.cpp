@@ -189,6 +189,35 @@ TEST(WeightedNDT2D, PowerShiftIgnoresLowPowerClutterThatBiasesTheUnweightedResul
   EXPECT_GT(err_plain, 0.02) << "the low-power returns should bias the unshifted match";
 }
 
+TEST(WeightedNDT2D, SourceShiftOffWeighsTheSourceByItsUnshiftedPower) {
+  // setShiftSourceWeights(false) keeps s in the cells (eq. 1) and leaves it out of the matching
+  // weights (eq. 2): the same problem as shifting both with every source power raised by s. Powers
+  // are multiples of 1/256 and s = 0.25, so p + s − s is exact and the answers agree bit for bit.
+  auto pair = noisyPair(31, 6000);
+  for (std::size_t i = 0; i < pair.target.size(); ++i) pair.target[i].power = 0.5f + static_cast<float>(i % 61) / 256.0f;
+  pcl::PointCloud<PointRadar> raised = pair.source;
+  for (std::size_t i = 0; i < pair.source.size(); ++i) {
+    pair.source[i].power = 0.5f + static_cast<float>((7 * i) % 64) / 256.0f;
+    raised[i].power = pair.source[i].power + 0.25f;
+  }
+  WeightedNDT2D<PointRadar, PointRadar> cells_only, both, both_raised;
+  EXPECT_TRUE(both.getShiftSourceWeights());  // the paper's default
+  for (auto* m : {&cells_only, &both, &both_raised}) m->setPowerShift(0.25f);
+  cells_only.setShiftSourceWeights(false);
+  const Pose2 guess(0.3, -0.2, 1.0 * kDeg);
+  const auto a = alignPair(pair, guess, cells_only);
+  const auto b = alignPair(pair, guess, both);
+  SyntheticScanPair raised_pair = pair;
+  raised_pair.source = raised;
+  const auto c = alignPair(raised_pair, guess, both_raised);
+  EXPECT_FALSE(cells_only.getShiftSourceWeights());
+  EXPECT_TRUE(a.converged && b.converged && c.converged);
+  EXPECT_EQ(a.pose, c.pose);
+  EXPECT_EQ(cells_only.getNdtScore(), both_raised.getNdtScore());
+  EXPECT_NE(cells_only.getNdtScore(), both.getNdtScore()) << "the source weights should differ from the shifted ones";
+  expectClose(a.pose, pair.source_in_target, 0.02, 0.1);
+}
+
 TEST(WeightedNDT2D, PointsWithLargeCovariancePullLess) {
   // Half of the source is consistent with the truth; a second, shifted copy of the structure has
   // large covariance. With eq. (2) weights the consistent, precise half wins.

@@ -86,10 +86,11 @@ double matchFitPerPoint(RadarRegistration& matcher) {
   return ours->getNdtScore() / static_cast<double>(ours->getNumSourcePoints());
 }
 
-bool setMatcherPowerShift(RadarRegistration& matcher, float shift) {
+bool setMatcherPowerShift(RadarRegistration& matcher, float shift, bool shift_source) {
   auto* ours = dynamic_cast<WeightedNDT2D<PointRadar, PointRadar>*>(&matcher);
   if (!ours) return false;
   ours->setPowerShift(shift);
+  ours->setShiftSourceWeights(shift_source);
   return true;
 }
 

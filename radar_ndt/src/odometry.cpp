@@ -364,7 +364,7 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
     step.slow = last_dt_ > 0 && velocity.head<2>().norm() < o.slow_speed;
     const double g0 = step.slow ? o.slow_grid : o.grid;
     if (matcher_grid_ != g0) setMatcherGrid(*matcher_, matcher_grid_ = g0);
-    if (matcher_shift_ != o.power_shift && setMatcherPowerShift(*matcher_, o.power_shift)) matcher_shift_ = o.power_shift;
+    if (matcher_shift_ != o.power_shift && setMatcherPowerShift(*matcher_, o.power_shift, o.shift_source_weights)) matcher_shift_ = o.power_shift;
     // The target model is built once per keyframe, not once per scan: while the keyframe is kept
     // the matcher still holds it (unless an attempt swapped in a re-compensated copy).
     if (!matcher_holds_target_ || target_replaced_) matcher_->setInputTarget(target_);
@@ -406,7 +406,7 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
     for (int halving = 0; halving <= o.max_shift_halvings && !ok && !give_up; ++halving) {
       if (halving > 0) {
         const float s = o.power_shift * std::pow(0.5f, static_cast<float>(halving));
-        if (!setMatcherPowerShift(*matcher_, s)) break;  // no power weights: nothing to halve
+        if (!setMatcherPowerShift(*matcher_, s, o.shift_source_weights)) break;  // no power weights: nothing to halve
         matcher_shift_ = s;
       }
       for (double g = g0;; g += o.grid_step) {
@@ -430,7 +430,7 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
             // be judged against recent matches, and the refined match must pass both checks;
             // otherwise the step falls back.
             setMatcherGrid(*matcher_, matcher_grid_ = o.grid);
-            if (setMatcherPowerShift(*matcher_, o.power_shift)) matcher_shift_ = o.power_shift;
+            if (setMatcherPowerShift(*matcher_, o.power_shift, o.shift_source_weights)) matcher_shift_ = o.power_shift;
             ++step.attempts;
             const Pose2 candidate = estimate;
             if (!attempt(candidate, &estimate)) {

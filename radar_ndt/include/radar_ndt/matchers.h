@@ -53,8 +53,9 @@ double matchScore(RadarRegistration& matcher);
 /// NaN for other matchers.
 double matchFitPerPoint(RadarRegistration& matcher);
 
-/// Sets the power shift s of eq. (1)-(2) when the matcher is ours; false (nothing changed) for
-/// matchers without power weights (PCL's NDT and ICP).
-bool setMatcherPowerShift(RadarRegistration& matcher, float shift);
+/// Sets the power shift s of eq. (1)-(2) when the matcher is ours, in the cells and, when
+/// shift_source (the paper), in the matching weights too; false (nothing changed) for matchers
+/// without power weights (PCL's NDT and ICP).
+bool setMatcherPowerShift(RadarRegistration& matcher, float shift, bool shift_source = true);
 
 }  // namespace radar_ndt

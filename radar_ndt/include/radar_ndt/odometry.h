@@ -37,6 +37,9 @@ struct ScanningOdometryOptions {
   double grid_step = 2.5;         ///< added to g after each failed attempt
   double max_grid = 12.5;         ///< once an attempt above this grid fails, s is halved
   float power_shift = 0.333f;     ///< s of eq. (1)-(2) (ours only; PCL's matchers ignore power)
+  /// false: s shifts the cells' weights (eq. 1) only, the matching weights are p·exp(−½(σx + σy))
+  /// (an ablation; the paper shifts both).
+  bool shift_source_weights = true;
   int max_shift_halvings = 1;     ///< grid ladders tried with a halved s before falling back
   double slow_speed = 1.5 / 3.6;  ///< m/s: below this estimated speed the grid is slow_grid
   double slow_grid = 1.5;         ///< m

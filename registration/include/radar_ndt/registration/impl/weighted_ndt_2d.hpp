@@ -289,12 +289,13 @@ void WeightedNDT2D<PointSource, PointTarget>::prepareSource() {
   if (!input_) return;
   const auto& indices = *this->indices_;
   source_points_.reserve(indices.size());
+  const double source_shift = shift_source_ ? power_shift_ : 0.0f;
   for (const auto i : indices) {
     const PointSource& p = (*input_)[i];
     const Eigen::Vector3d cov = detail::pointCovariance(p);
     if (!detail::usable(p.x, p.y, cov)) continue;
-    // eq. (2): w = max(p − s, 0) · exp(−½(σx + σy))
-    const double w = std::max(0.0, static_cast<double>(detail::pointPower(p)) - power_shift_) *
+    // eq. (2): w = max(p − s, 0) · exp(−½(σx + σy)); s = 0 here with setShiftSourceWeights(false)
+    const double w = std::max(0.0, static_cast<double>(detail::pointPower(p)) - source_shift) *
                      detail::expNegative(-0.5 * (std::sqrt(cov.x()) + std::sqrt(cov.z())));
     if (!(w > 0.0) || !std::isfinite(w)) continue;
     source_points_.push_back({p.x, p.y, w});

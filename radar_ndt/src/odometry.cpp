@@ -441,10 +441,10 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
           }
           const bool judged = (nominal || !step.slow) && std::isfinite(fit);
           if (judged) {
-            // Every judged fit enters the history, refused ones too, so a median of refusals
-            // comes down; a scene that turns poorer (open land after a city centre) restarts it
-            // at the keyframe replaced after two failures in a row (below). Judged before it is
-            // added.
+            // Every judged fit enters the history, refused ones too: a scene that stays poorer
+            // than the last (open land after a city centre) lowers the median within
+            // fit_history / 2 scans instead of causing a fallback storm, while a passing bus
+            // (a few scans) leaves the median where it was. Judged before it is added.
             const bool fits = acceptScanFit(fit);
             recent_fits_.push_back(fit);
             while (recent_fits_.size() > std::max<std::size_t>(o.fit_history, 1)) recent_fits_.pop_front();
@@ -492,11 +492,6 @@ const OdometryStep& Odometry::addScan(const ScanFrame& scan) {
                                      std::abs(from_keyframe.z()) >= o.keyframe_rotation
                                : consecutive_failures_ >= 2 || !keyframe_usable;
   if (replace) {
-    // Replaced after failures: the view changed (a junction, a parked truck, rain), and the fits
-    // of matches to the old keyframe say nothing about matches to this one. The history restarts
-    // (judged again from 5 fits on), so a scene that turned poorer costs these two fallbacks, not
-    // the fit_history / 2 more it would take the median to come down.
-    if (!matched) recent_fits_.clear();
     keyframe_pose_ = step.pose;
     keyframe_stamp_us_ = step.timestamp_us;
     previous_raw_ = scan.cloud;

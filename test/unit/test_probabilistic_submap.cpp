@@ -19,17 +19,6 @@ pcl::PointCloud<PointRadar> onePoint(float x, float y, float cov) {
 }
 }  // namespace
 
-TEST(Se2, IntegrateVelocityIsTheArc) {
-  // Quarter circle of radius 10 m: v = 10 m/s, ω = π/2 rad/s for 1 s.
-  const Pose2 p = integrateVelocity(Eigen::Vector3d(10.0, 0.0, M_PI / 2), 1.0);
-  EXPECT_NEAR(p.x(), 20.0 / M_PI, 1e-9);
-  EXPECT_NEAR(p.y(), 20.0 / M_PI, 1e-9);
-  EXPECT_NEAR(p.z(), M_PI / 2, 1e-12);
-  const Pose2 straight = integrateVelocity(Eigen::Vector3d(3.0, -1.0, 0.0), 0.5);
-  EXPECT_NEAR(straight.x(), 1.5, 1e-12);
-  EXPECT_NEAR(straight.y(), -0.5, 1e-12);
-}
-
 TEST(ProbabilisticSubmap, SlidingWindowOfNCycles) {
   ProbabilisticSubmap map(3);
   const Eigen::Vector3d v(10.0, 0.0, 0.0);

@@ -5,10 +5,10 @@
 #include <pcl/console/time.h>
 
 #include "app_common.h"
-#include "radar_ndt/evaluation_plot.h"
-#include "radar_ndt/evaluation_report.h"
+#include "radar_ndt/evaluation/svg_plot.h"
+#include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/io/trajectory_io.h"
-#include "radar_ndt/metrics.h"
+#include "radar_ndt/evaluation/metrics.h"
 
 using namespace radar_ndt;
 namespace po = boost::program_options;

@@ -18,15 +18,15 @@
 #include <pcl/registration/ndt_2d.h>
 
 #include "app_common.h"
-#include "radar_ndt/matchers.h"
-#include "radar_ndt/nuscenes_sequence.h"
-#include "radar_ndt/power_threshold.h"
-#include "radar_ndt/probabilistic_submap.h"
+#include "radar_ndt/odometry/matcher.h"
+#include "radar_ndt/pipeline/nuscenes_sequence.h"
+#include "radar_ndt/frontend/power_threshold.h"
+#include "radar_ndt/frontend/probabilistic_submap.h"
 #include "radar_ndt/io/polar_scan.h"
-#include "radar_ndt/radar_cycle.h"
+#include "radar_ndt/frontend/radar_cycle.h"
 #include "radar_ndt/registration/weighted_ndt_2d.h"
 #include "radar_ndt/se2.h"
-#include "radar_ndt/synthetic_scan.h"
+#include "radar_ndt/sim/synthetic_scan.h"
 
 using namespace radar_ndt;
 namespace po = boost::program_options;

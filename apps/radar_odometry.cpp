@@ -19,14 +19,14 @@
 #include <pcl/console/time.h>
 
 #include "app_common.h"
-#include "radar_ndt/automotive_run.h"
-#include "radar_ndt/evaluation_plot.h"
-#include "radar_ndt/evaluation_report.h"
+#include "radar_ndt/pipeline/automotive_run.h"
+#include "radar_ndt/evaluation/svg_plot.h"
+#include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/trajectory_io.h"
-#include "radar_ndt/scanning_run.h"
-#include "radar_ndt/top_view_map.h"
+#include "radar_ndt/pipeline/scanning_run.h"
+#include "radar_ndt/evaluation/top_view_map.h"
 
 using namespace radar_ndt;
 namespace po = boost::program_options;

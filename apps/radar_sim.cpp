@@ -13,8 +13,8 @@
 #include "app_common.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/trajectory_io.h"
-#include "radar_ndt/power_threshold.h"
-#include "radar_ndt/radar_sim.h"
+#include "radar_ndt/frontend/power_threshold.h"
+#include "radar_ndt/sim/radar_sim.h"
 
 using namespace radar_ndt;
 namespace po = boost::program_options;

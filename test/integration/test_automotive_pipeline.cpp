@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "radar_ndt/automotive_run.h"
-#include "radar_ndt/odometry.h"
+#include "radar_ndt/pipeline/automotive_run.h"
+#include "radar_ndt/odometry/odometry.h"
 #include "radar_ndt/se2.h"
 
 using namespace radar_ndt;

@@ -9,12 +9,12 @@
 
 #include <gtest/gtest.h>
 
-#include "radar_ndt/evaluation_report.h"
-#include "radar_ndt/metrics.h"
-#include "radar_ndt/odometry.h"
-#include "radar_ndt/radar_sim.h"
-#include "radar_ndt/scanning_run.h"
-#include "radar_ndt/top_view_map.h"
+#include "radar_ndt/evaluation/report.h"
+#include "radar_ndt/evaluation/metrics.h"
+#include "radar_ndt/odometry/odometry.h"
+#include "radar_ndt/sim/radar_sim.h"
+#include "radar_ndt/pipeline/scanning_run.h"
+#include "radar_ndt/evaluation/top_view_map.h"
 #include "test_support.h"
 
 using namespace radar_ndt;

@@ -9,7 +9,7 @@
 
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/polar_scan.h"
-#include "radar_ndt/radar_sim.h"
+#include "radar_ndt/sim/radar_sim.h"
 #include "test_support.h"
 
 using namespace radar_ndt;

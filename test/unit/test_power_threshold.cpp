@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "radar_ndt/io/polar_scan.h"
-#include "radar_ndt/power_threshold.h"
+#include "radar_ndt/frontend/power_threshold.h"
 
 using namespace radar_ndt;
 

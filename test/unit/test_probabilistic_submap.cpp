@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "radar_ndt/probabilistic_submap.h"
+#include "radar_ndt/frontend/probabilistic_submap.h"
 #include "radar_ndt/se2.h"
 
 using namespace radar_ndt;

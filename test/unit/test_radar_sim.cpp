@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "radar_ndt/io/nuscenes.h"
-#include "radar_ndt/power_threshold.h"
-#include "radar_ndt/radar_sim.h"
+#include "radar_ndt/frontend/power_threshold.h"
+#include "radar_ndt/sim/radar_sim.h"
 #include "test_support.h"
 
 using namespace radar_ndt;

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "radar_ndt/odometry.h"
+#include "radar_ndt/odometry/odometry.h"
 
 using namespace radar_ndt;
 

@@ -12,7 +12,7 @@
 #include "radar_ndt/registration/weighted_ndt_2d.h"
 #include "radar_ndt/registration/impl/weighted_ndt_2d.hpp"  // detail::expNegative
 #include "radar_ndt/se2.h"
-#include "radar_ndt/synthetic_scan.h"
+#include "radar_ndt/sim/synthetic_scan.h"
 
 using namespace radar_ndt;
 

@@ -1,0 +1,54 @@
+#pragma once
+// Computes a chosen set of metrics and renders them the same way in every app: a readable table,
+// and JSON of the shape
+//   {"metrics": {"kitti": {"trans_err_pct", "rot_err_deg_per_m", "segments"},
+//                "1m":    {"trans_err_pct", "rot_err_deg_per_m", "segments"},
+//                "frame": {"trans_err_m", "rot_err_deg", "pairs"},
+//                "ate":   {"rmse_m"}}}
+// with one entry per computed metric.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "radar_ndt/evaluation/metrics.h"
+
+namespace radar_ndt {
+
+enum class Metric { Kitti, OneMeter, Frame, Ate };
+
+/// Parses "kitti", "1m", "frame", "ate", "all", or a comma-separated list of them.
+/// Throws std::invalid_argument naming the bad word.
+std::vector<Metric> parseMetrics(const std::string& text);
+
+struct EvaluationOptions {
+  std::vector<double> kitti_lengths{100, 200, 300, 400, 500, 600, 700, 800};
+  std::size_t kitti_step = 10;
+  double one_meter_length = 1.0;
+  std::size_t frame_step = 1;
+};
+
+struct EvaluationReport {
+  std::size_t associated_poses = 0;
+  std::optional<SegmentError> kitti;
+  std::optional<SegmentError> one_meter;
+  std::optional<FrameError> frame;
+  std::optional<AbsoluteError> ate;
+};
+
+EvaluationReport evaluate(const PosePairs& pairs, const std::vector<Metric>& metrics,
+                          const EvaluationOptions& options = EvaluationOptions());
+
+/// The mean of several runs' reports (e.g. one per scene), for the metrics all of them have: each
+/// error averaged over the runs where it is defined (NaN where none is), segment, pair and pose
+/// counts summed, the KITTI per-length rows averaged row by row.
+EvaluationReport meanReport(const std::vector<EvaluationReport>& reports);
+
+/// The value of the "metrics" key: {"kitti": {...}, ...}, for apps that add their own keys.
+std::string metricsJson(const EvaluationReport& report);
+/// {"metrics": {...}}
+std::string toJson(const EvaluationReport& report);
+/// A readable table, one row per metric.
+std::string formatTable(const EvaluationReport& report);
+
+}  // namespace radar_ndt

@@ -1,0 +1,62 @@
+#pragma once
+// One odometry run over a nuScenes-layout scene, every stage timed: read → front-end (covariances,
+// Doppler ego-velocity, moving detections removed, sweeps to the reference time) → submap →
+// match. What `radar_odometry --format nuscenes` runs and what its paper-table mode repeats.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "radar_ndt/evaluation/report.h"
+#include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/odometry/matcher.h"
+#include "radar_ndt/pipeline/nuscenes_sequence.h"
+#include "radar_ndt/odometry/odometry.h"
+#include "radar_ndt/frontend/radar_cycle.h"
+
+namespace radar_ndt {
+
+struct AutomotiveRunOptions {
+  Method method = Method::PwNdt;
+  NuScenesRadarSequence::Options sequence;
+  AutomotiveFrontEnd::Options front_end;
+  OdometryOptions odometry;
+  std::size_t max_cycles = 0;  ///< 0: all
+};
+
+struct StageTimes {
+  double read_ms = 0, front_end_ms = 0, submap_ms = 0, match_ms = 0;
+  double total() const { return read_ms + front_end_ms + submap_ms + match_ms; }
+};
+
+struct AutomotiveRunResult {
+  std::string scene;
+  std::string reference_channel;
+  double period_s = 0;
+  Trajectory estimate;
+  Trajectory ground_truth;  ///< SE(2), relative to the first cycle
+  std::vector<OdometryStep> steps;
+  OdometryCounters counters;
+  StageTimes median_ms;  ///< per cycle, median of each stage
+  StageTimes mean_ms;
+  double median_total_ms = 0;  ///< median of the per-cycle totals
+  std::vector<std::string> problems;  ///< files that could not be read, and why (with the cycle)
+  std::size_t invalid_velocity_cycles = 0;
+  /// Cycles whose ego-velocity used vy = 0 (radars at one place only: EgoVelocityModel::Auto).
+  std::size_t nonholonomic_velocity_cycles = 0;
+  std::size_t detections = 0;      ///< after the reader's filters, all cycles
+  std::size_t removed_moving = 0;  ///< by the Doppler outlier filter
+  double median_doppler_residual = 0;  ///< median over cycles of the ego-velocity fit's inlier RMS (m/s)
+  std::vector<double> ego_speed;  ///< Doppler ego speed per cycle (m/s), NaN when invalid
+};
+
+/// `progress(done, total)` is called after each cycle when given.
+AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
+                                          const AutomotiveRunOptions& options,
+                                          const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
+
+/// The settings a method runs with: Rapp's joint-Doppler NDT keeps moving detections and weights
+/// points by Doppler agreement instead.
+AutomotiveRunOptions withMethod(AutomotiveRunOptions options, Method method);
+
+}  // namespace radar_ndt

@@ -1,0 +1,55 @@
+#pragma once
+// A nuScenes-layout scene as a sequence of radar cycles (README, "Automotive pipeline"): the
+// reference radar (default: the forward-facing one) clocks the cycles; each other radar gives its
+// latest sweep within one period before the reference sweep. The pose of cycle k is the vehicle
+// frame at its reference sweep's timestamp; ground truth is the ego pose of that sweep.
+
+#include <string>
+#include <vector>
+
+#include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/frontend/radar_cycle.h"
+
+namespace radar_ndt {
+
+class NuScenesRadarSequence {
+ public:
+  struct Options {
+    NuScenesRadarFilter filter;
+    /// Channel that clocks the cycles; empty: the radar mounted closest to straight ahead.
+    std::string reference_channel;
+    /// Radar channels used (names from sensor.json); empty: every radar channel. A car with one
+    /// radar is one channel (its ego-velocity then takes the nonholonomic model, EgoVelocityModel).
+    std::vector<std::string> channels;
+  };
+
+  NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene, const Options& options);
+
+  const std::string& sceneName() const { return scene_name_; }
+  const std::string& referenceChannel() const { return reference_channel_; }
+  double periodSeconds() const { return period_s_; }
+  std::size_t size() const { return plans_.size(); }
+  std::size_t sweepCount() const { return sweeps_.size(); }
+
+  std::int64_t timestamp(std::size_t k) const { return sweeps_[plans_[k].reference].timestamp_us; }
+  /// Ego pose (vehicle to global) at cycle k's reference sweep.
+  const Eigen::Isometry3d& groundTruth(std::size_t k) const { return sweeps_[plans_[k].reference].ego_to_global; }
+  /// Ground truth of all cycles as a TUM trajectory (stamps in seconds) projected to SE(2)
+  /// (x, y, yaw) and made relative to the first cycle: what an SE(2) odometry is compared with.
+  Trajectory groundTruthTrajectory() const;
+
+  /// Reads cycle k's sweeps. A sweep that cannot be read (missing, truncated, malformed file) is
+  /// left out and described in `problems` (file and reason); the cycle goes on with the others.
+  RadarCycle load(std::size_t k, std::vector<std::string>* problems = nullptr, std::size_t* non_finite_dropped = nullptr) const;
+
+ private:
+  std::string scene_name_;
+  std::string reference_channel_;
+  double period_s_ = 0;
+  Options options_;
+  std::vector<NuScenesSweep> sweeps_;
+  std::vector<CyclePlan> plans_;
+};
+
+}  // namespace radar_ndt

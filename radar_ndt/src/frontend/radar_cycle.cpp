@@ -1,0 +1,131 @@
+#include "radar_ndt/frontend/radar_cycle.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "radar_ndt/frontend/probabilistic_submap.h"
+#include "radar_ndt/se2.h"
+
+namespace radar_ndt {
+
+std::vector<CyclePlan> planRadarCycles(const std::vector<SweepStamp>& sweeps, std::uint16_t reference_channel, std::int64_t period_us) {
+  std::vector<std::size_t> refs;
+  for (std::size_t i = 0; i < sweeps.size(); ++i)
+    if (sweeps[i].channel == reference_channel) refs.push_back(i);
+  if (period_us <= 0) {
+    std::vector<std::int64_t> gaps;
+    for (std::size_t k = 1; k < refs.size(); ++k) gaps.push_back(sweeps[refs[k]].timestamp_us - sweeps[refs[k - 1]].timestamp_us);
+    if (gaps.empty()) {
+      period_us = 1;
+    } else {
+      std::nth_element(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2), gaps.end());
+      period_us = std::max<std::int64_t>(1, gaps[gaps.size() / 2]);
+    }
+  }
+  std::uint16_t max_channel = 0;
+  for (const auto& s : sweeps) max_channel = std::max(max_channel, s.channel);
+  std::vector<CyclePlan> plans;
+  plans.reserve(refs.size());
+  for (const std::size_t r : refs) {
+    CyclePlan plan;
+    plan.reference = r;
+    const std::int64_t t_ref = sweeps[r].timestamp_us;
+    std::vector<long> latest(static_cast<std::size_t>(max_channel) + 1, -1);
+    // Sweeps are time-ordered: walk back from the reference sweep over one period (and forward
+    // over sweeps with the same timestamp).
+    for (std::size_t j = r + 1; j < sweeps.size() && sweeps[j].timestamp_us == t_ref; ++j)
+      if (latest[sweeps[j].channel] < 0) latest[sweeps[j].channel] = static_cast<long>(j);
+    for (std::size_t j = r + 1; j-- > 0;) {
+      if (sweeps[j].timestamp_us <= t_ref - period_us) break;
+      if (sweeps[j].timestamp_us > t_ref) continue;
+      if (latest[sweeps[j].channel] < 0) latest[sweeps[j].channel] = static_cast<long>(j);
+    }
+    latest[reference_channel] = static_cast<long>(r);
+    for (const long j : latest)
+      if (j >= 0) plan.members.push_back(static_cast<std::size_t>(j));
+    plans.push_back(std::move(plan));
+  }
+  return plans;
+}
+
+SensorMounting toMounting(const Eigen::Isometry3d& T) {
+  SensorMounting m;
+  m.x = T.translation().x();
+  m.y = T.translation().y();
+  const Eigen::Vector3d forward = T.linear().col(0);
+  m.yaw = std::atan2(forward.y(), forward.x());
+  m.valid = true;
+  return m;
+}
+
+ProcessedCycle AutomotiveFrontEnd::process(const RadarCycle& cycle, const EgoVelocity* fallback) const {
+  ProcessedCycle out;
+  out.timestamp_us = cycle.timestamp_us;
+  // 1. Every sweep into the vehicle frame (at its own time), with its point covariances. Planar:
+  // z (the mounting height, not an elevation: the ARS408 measures none) is set to 0.
+  pcl::PointCloud<PointRadar>::Ptr all(new pcl::PointCloud<PointRadar>);
+  std::vector<std::size_t> sweep_end;  // all[sweep_end[s-1] .. sweep_end[s]) came from sweep s
+  std::vector<float> sweep_dt;         // t_ref − t_sweep (s), as the points' time_offset stores it
+  for (const auto& sweep : cycle.sweeps) {
+    if (sweep.sensor_id >= out.mountings.size()) out.mountings.resize(sweep.sensor_id + 1u);
+    out.mountings[sweep.sensor_id] = toMounting(sweep.sensor_to_vehicle);
+    const std::size_t begin = all->size();
+    pcl::PointCloud<PointRadar> pts = sweep.points;
+    setPointCovariances(pts, out.mountings[sweep.sensor_id].yaw, options_.covariance_model, options_.polar);
+    all->insert(all->end(), pts.begin(), pts.end());
+    const float dt = static_cast<float>(1e-6 * static_cast<double>(cycle.timestamp_us - sweep.timestamp_us));
+    for (std::size_t i = begin; i < all->size(); ++i) {
+      PointRadar& p = (*all)[i];
+      const Eigen::Vector3d q = sweep.sensor_to_vehicle * Eigen::Vector3d(p.x, p.y, p.z);
+      p.x = static_cast<float>(q.x());
+      p.y = static_cast<float>(q.y());
+      p.z = 0.f;
+      p.sensor_id = sweep.sensor_id;
+      p.time_offset = -dt;
+    }
+    sweep_end.push_back(all->size());
+    sweep_dt.push_back(dt);
+  }
+  out.raw_points = all->size();
+
+  // 2. Ego-velocity from the Doppler of all radars (RANSAC), 3. moving detections removed.
+  const EgoVelocityEstimator estimator(options_.ego_velocity);
+  out.ego = estimator.estimate(*all, out.mountings);
+  Eigen::Vector3d v = out.ego.velocity;
+  if (!out.ego.valid && fallback) v = fallback->velocity;
+  pcl::Indices keep;
+  if (options_.remove_moving && (out.ego.valid || fallback)) {
+    DopplerOutlierRemoval<PointRadar> filter;
+    filter.setInputCloud(all);
+    filter.setEgoVelocity(v);
+    filter.setMountings(out.mountings);
+    filter.setThreshold(options_.ego_velocity.inlier_threshold);
+    filter.filter(keep);
+  } else {
+    keep.resize(all->size());
+    for (std::size_t i = 0; i < all->size(); ++i) keep[i] = static_cast<pcl::index_t>(i);
+  }
+  out.removed_moving = all->size() - keep.size();
+
+  // 4. Each sweep to the reference time: the vehicle moved by exp(v·dt) since the sweep (kept
+  // indices are increasing, so each sweep's points are one run of `keep`).
+  auto& cloud = *out.cloud;
+  cloud.reserve(keep.size());
+  std::size_t k = 0;
+  for (std::size_t s = 0; s < cycle.sweeps.size(); ++s) {
+    const std::size_t first = cloud.size();
+    for (; k < keep.size() && static_cast<std::size_t>(keep[k]) < sweep_end[s]; ++k) cloud.push_back((*all)[keep[k]]);
+    const double dt = sweep_dt[s];
+    if (!options_.compensate_time || dt == 0.0 || first == cloud.size()) continue;
+    pcl::PointCloud<PointRadar> run;
+    run.assign(cloud.begin() + static_cast<std::ptrdiff_t>(first), cloud.end(), 1);
+    transformWithUncertainty(run, integrateVelocity(v, dt), Eigen::Matrix3d::Zero());
+    std::copy(run.begin(), run.end(), cloud.begin() + static_cast<std::ptrdiff_t>(first));
+  }
+  cloud.width = static_cast<std::uint32_t>(cloud.size());
+  cloud.height = 1;
+  cloud.is_dense = true;
+  return out;
+}
+
+}  // namespace radar_ndt

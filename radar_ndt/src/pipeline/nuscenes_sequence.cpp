@@ -1,0 +1,107 @@
+#include "radar_ndt/pipeline/nuscenes_sequence.h"
+
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "radar_ndt/io/io_error.h"
+#include "radar_ndt/se2.h"
+
+namespace radar_ndt {
+
+namespace {
+/// "A, B, C": for messages that list the channels there are.
+template <typename Range, typename Name>
+std::string joinNames(const Range& range, Name name) {
+  std::string names;
+  for (const auto& item : range) names += (names.empty() ? "" : ", ") + name(item);
+  return names;
+}
+}  // namespace
+
+NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene, const Options& options)
+    : scene_name_(scene.name), options_(options), sweeps_(dataset.radarSweeps(scene)) {
+  if (sweeps_.empty()) throw std::invalid_argument("scene " + scene.name + " has no radar sweeps");
+  const auto& channels = dataset.radarChannels();
+  if (!options.channels.empty()) {
+    std::vector<char> wanted(channels.size(), 0);
+    for (const auto& name : options.channels) {
+      std::size_t i = 0;
+      while (i < channels.size() && channels[i] != name) ++i;
+      if (i == channels.size())
+        throw std::invalid_argument("no radar channel '" + name + "' (radar channels: " +
+                                    joinNames(channels, [](const std::string& c) { return c; }) + ")");
+      wanted[i] = 1;
+    }
+    std::vector<NuScenesSweep> kept;
+    for (auto& s : sweeps_)
+      if (s.channel_index < wanted.size() && wanted[s.channel_index]) kept.push_back(std::move(s));
+    sweeps_.swap(kept);
+    if (sweeps_.empty()) throw std::invalid_argument("scene " + scene.name + " has no sweeps of the chosen radar channels");
+  }
+  // The forward-facing radar: mounting yaw closest to 0 (ties: the one further forward).
+  std::map<std::uint16_t, SensorMounting> mount;
+  for (const auto& s : sweeps_)
+    if (!mount.count(s.channel_index)) mount[s.channel_index] = toMounting(s.sensor_to_ego);
+  int ref = -1;
+  if (!options.reference_channel.empty()) {
+    for (const auto& [idx, m] : mount)
+      if (channels[idx] == options.reference_channel) ref = idx;
+    if (ref < 0)
+      throw std::invalid_argument("reference channel '" + options.reference_channel + "' has no sweeps in " + scene.name +
+                                  " (radar channels: " + joinNames(mount, [&](const auto& e) { return channels[e.first]; }) + ")");
+  } else {
+    double best = 1e9;
+    for (const auto& [idx, m] : mount) {
+      const double score = std::abs(normalizeAngle(m.yaw)) - 1e-3 * m.x;
+      if (score < best) {
+        best = score;
+        ref = idx;
+      }
+    }
+  }
+  reference_channel_ = channels[static_cast<std::size_t>(ref)];
+  std::vector<SweepStamp> stamps;
+  stamps.reserve(sweeps_.size());
+  for (const auto& s : sweeps_) stamps.push_back({s.timestamp_us, s.channel_index});
+  plans_ = planRadarCycles(stamps, static_cast<std::uint16_t>(ref));
+  if (plans_.size() >= 2)
+    period_s_ = 1e-6 * static_cast<double>(timestamp(plans_.size() - 1) - timestamp(0)) / static_cast<double>(plans_.size() - 1);
+}
+
+Trajectory NuScenesRadarSequence::groundTruthTrajectory() const {
+  Trajectory t;
+  if (plans_.empty()) return t;
+  const Pose2 first = toPose2(groundTruth(0));
+  for (std::size_t k = 0; k < plans_.size(); ++k) {
+    t.stamps.push_back(1e-6 * static_cast<double>(timestamp(k)));
+    t.poses.push_back(toIsometry3(between(first, toPose2(groundTruth(k)))));
+  }
+  return t;
+}
+
+RadarCycle NuScenesRadarSequence::load(std::size_t k, std::vector<std::string>* problems, std::size_t* non_finite_dropped) const {
+  RadarCycle cycle;
+  cycle.timestamp_us = timestamp(k);
+  for (const std::size_t i : plans_[k].members) {
+    const NuScenesSweep& s = sweeps_[i];
+    RadarSweepData d;
+    d.timestamp_us = s.timestamp_us;
+    d.sensor_id = s.channel_index;
+    d.sensor_to_vehicle = s.sensor_to_ego;
+    try {
+      NuScenesPcdStats stats;
+      d.points = readNuScenesRadarPcd(s.path, options_.filter, s.channel_index, &stats);
+      if (non_finite_dropped) *non_finite_dropped += stats.dropped_non_finite;
+      if (problems && stats.dropped_non_finite > 0)
+        problems->push_back(s.path + ": dropped " + std::to_string(stats.dropped_non_finite) + " points with NaN or Inf values");
+    } catch (const IoError& e) {
+      if (problems) problems->push_back(e.what());
+      continue;
+    }
+    cycle.sweeps.push_back(std::move(d));
+  }
+  return cycle;
+}
+
+}  // namespace radar_ndt

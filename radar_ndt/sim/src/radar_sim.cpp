@@ -12,11 +12,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <nlohmann/json.hpp>
-
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/io_error.h"
-#include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/nuscenes_writer.h"
 #include "radar_ndt/sim/radar_sim.h"
 #include "sim_random.h"
 
@@ -345,14 +343,6 @@ constexpr std::array<Mounting, 5> kMountings{{{"RADAR_FRONT", 3.412, 0.0, 0.5, 0
                                               {"RADAR_BACK_LEFT", -0.562, 0.628, 0.53, 174.41},
                                               {"RADAR_BACK_RIGHT", -0.562, -0.618, 0.53, -176.11}}};
 
-/// ARS408 state index whose standard deviation (the reader's table) is nearest, in log, to `sigma`.
-int rmsIndex(double sigma) {
-  int best = 0;
-  for (int i = 1; std::isfinite(ars408RmsValue(i)); ++i)
-    if (std::abs(std::log(ars408RmsValue(i) / sigma)) < std::abs(std::log(ars408RmsValue(best) / sigma))) best = i;
-  return best;
-}
-
 struct Detection {
   double x, y;        // sensor frame
   double vr;          // radial velocity, positive receding
@@ -362,54 +352,43 @@ struct Detection {
   double vr_world;    // the target's own radial velocity (for vx_comp / vy_comp)
 };
 
-template <typename T>
-void put(std::string& out, T v) {
-  char b[sizeof(T)];
-  std::memcpy(b, &v, sizeof(T));
-  out.append(b, sizeof(T));
-}
-
-std::string radarPcd(const std::vector<Detection>& dets, double doppler_sigma) {
-  std::ostringstream h;
-  h << "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\n"
-       "FIELDS x y z dyn_prop id rcs vx vy vx_comp vy_comp is_quality_valid ambig_state x_rms y_rms invalid_state pdh0 vx_rms vy_rms\n"
-       "SIZE 4 4 4 1 2 4 4 4 4 4 1 1 1 1 1 1 1 1\nTYPE F F F I I F F F F F I I I I I I I I\n"
-       "COUNT 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1\n"
-    << "WIDTH " << dets.size() << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << dets.size() << "\nDATA binary\n";
-  std::string out = h.str();
-  const std::uint8_t v_rms = static_cast<std::uint8_t>(rmsIndex(doppler_sigma));
+/// Detections as the nuScenes radar PCD stores them (sensor frame, ARS408 state indices).
+std::vector<NuScenesRadarPoint> toPcdPoints(const std::vector<Detection>& dets, double doppler_sigma) {
+  std::vector<NuScenesRadarPoint> points(dets.size());
+  const std::int8_t v_rms = static_cast<std::int8_t>(ars408RmsIndex(doppler_sigma));
   for (std::size_t i = 0; i < dets.size(); ++i) {
     const Detection& d = dets[i];
     const double r = std::max(std::hypot(d.x, d.y), 1e-6), ux = d.x / r, uy = d.y / r;
-    put<float>(out, static_cast<float>(d.x));
-    put<float>(out, static_cast<float>(d.y));
-    put<float>(out, 0.f);
-    put<std::int8_t>(out, d.moving ? 0 : 1);  // dyn_prop: 0 moving, 1 stationary
-    put<std::int16_t>(out, static_cast<std::int16_t>(i));
-    put<float>(out, static_cast<float>(d.rcs));
-    put<float>(out, static_cast<float>(d.vr * ux));
-    put<float>(out, static_cast<float>(d.vr * uy));
-    put<float>(out, static_cast<float>(d.vr_world * ux));
-    put<float>(out, static_cast<float>(d.vr_world * uy));
-    put<std::int8_t>(out, 1);   // is_quality_valid
-    put<std::int8_t>(out, 3);   // ambig_state: unambiguous
-    put<std::int8_t>(out, static_cast<std::int8_t>(rmsIndex(d.sx)));
-    put<std::int8_t>(out, static_cast<std::int8_t>(rmsIndex(d.sy)));
-    put<std::int8_t>(out, 0);   // invalid_state: valid
-    put<std::int8_t>(out, 1);   // pdh0: false-alarm probability < 25 %
-    put<std::int8_t>(out, static_cast<std::int8_t>(v_rms));
-    put<std::int8_t>(out, static_cast<std::int8_t>(v_rms));
+    NuScenesRadarPoint& p = points[i];
+    p.x = static_cast<float>(d.x);
+    p.y = static_cast<float>(d.y);
+    p.z = 0.f;
+    p.dyn_prop = d.moving ? 0 : 1;  // 0 moving, 1 stationary
+    p.id = static_cast<std::int16_t>(i);
+    p.rcs = static_cast<float>(d.rcs);
+    p.vx = static_cast<float>(d.vr * ux);
+    p.vy = static_cast<float>(d.vr * uy);
+    p.vx_comp = static_cast<float>(d.vr_world * ux);
+    p.vy_comp = static_cast<float>(d.vr_world * uy);
+    p.is_quality_valid = 1;
+    p.ambig_state = 3;  // unambiguous
+    p.x_rms = static_cast<std::int8_t>(ars408RmsIndex(d.sx));
+    p.y_rms = static_cast<std::int8_t>(ars408RmsIndex(d.sy));
+    p.invalid_state = 0;  // valid
+    p.pdh0 = 1;           // false-alarm probability < 25 %
+    p.vx_rms = v_rms;
+    p.vy_rms = v_rms;
   }
-  return out;
+  return points;
 }
 
-nlohmann::json quaternionYaw(double yaw) { return {std::cos(0.5 * yaw), 0.0, 0.0, std::sin(0.5 * yaw)}; }
+/// nuScenes' (w, x, y, z) of a rotation about z.
+std::array<double, 4> quaternionYaw(double yaw) { return {std::cos(0.5 * yaw), 0.0, 0.0, std::sin(0.5 * yaw)}; }
 
 }  // namespace
 
 SequenceSummary writeAutomotiveSequence(const std::string& dir, const SimTrajectory& ego, const WorldOptions& world_options,
                                         const AutomotiveOptions& o, const SequenceOptions& sequence) {
-  using nlohmann::json;
   const auto wall = std::chrono::steady_clock::now();
   if (sequence.start >= ego.size()) throw std::invalid_argument("radar_sim: --start is past the trajectory's end");
   if (!(o.period > 0)) throw std::invalid_argument("radar_sim: the radar period must be positive");
@@ -432,30 +411,22 @@ SequenceSummary writeAutomotiveSequence(const std::string& dir, const SimTraject
   const std::uint64_t seed = world_options.seed;
   Random phase_rng(seed, 0xa070000000000000ULL);
 
-  json sensors = json::array(), calibrations = json::array(), samples = json::array(), sample_data = json::array(),
-       ego_poses = json::array();
+  NuScenesTableWriter tables;
   const std::string log_token = token(seed, 1, 0), scene_token = token(seed, 2, 0);
   // Samples (key frames) every 0.5 s, as in nuScenes.
   const std::size_t nsamples = static_cast<std::size_t>(duration / 0.5) + 1;
   auto stampOf = [&](double t) { return sequence.start_stamp_us + toMicros(t - t0); };
   for (std::size_t i = 0; i < nsamples; ++i)
-    samples.push_back({{"token", token(seed, 3, i)},
-                       {"timestamp", stampOf(t0 + 0.5 * i)},
-                       {"prev", i ? token(seed, 3, i - 1) : ""},
-                       {"next", i + 1 < nsamples ? token(seed, 3, i + 1) : ""},
-                       {"scene_token", scene_token}});
+    tables.addSample(token(seed, 3, i), stampOf(t0 + 0.5 * i), i ? token(seed, 3, i - 1) : "",
+                     i + 1 < nsamples ? token(seed, 3, i + 1) : "", scene_token);
 
   std::vector<Hit> hits;
   std::size_t total_detections = 0, data_index = 0;
   for (std::size_t c = 0; c < kMountings.size(); ++c) {
     const Mounting& mount = kMountings[c];
     const std::string sensor_token = token(seed, 4, c), calib_token = token(seed, 5, c);
-    sensors.push_back({{"token", sensor_token}, {"channel", mount.channel}, {"modality", "radar"}});
-    calibrations.push_back({{"token", calib_token},
-                            {"sensor_token", sensor_token},
-                            {"translation", {mount.x, mount.y, mount.z}},
-                            {"rotation", quaternionYaw(mount.yaw_deg * kDeg)},
-                            {"camera_intrinsic", json::array()}});
+    tables.addSensor(sensor_token, mount.channel, "radar");
+    tables.addCalibratedSensor(calib_token, sensor_token, {mount.x, mount.y, mount.z}, quaternionYaw(mount.yaw_deg * kDeg));
     const Pose2 mount_pose(mount.x, mount.y, mount.yaw_deg * kDeg);
     // Unsynchronised radars: each its own phase; the front one starts the cycle clock.
     const double phase = c == 0 ? 0.0 : phase_rng.uniform(0.0, o.period);
@@ -559,51 +530,21 @@ SequenceSummary writeAutomotiveSequence(const std::string& dir, const SimTraject
       const std::string folder = key[k] ? "samples" : "sweeps";
       const std::string filename = folder + "/" + mount.channel + "/" + sequence.scene_name + "__" + mount.channel + "__" +
                                    std::to_string(stamp) + ".pcd";
-      writeFileAtomically((fs::path(dir) / filename).string(), radarPcd(dets, o.doppler_sigma));
+      writeNuScenesRadarPcd((fs::path(dir) / filename).string(), toPcdPoints(dets, o.doppler_sigma));
       const std::string ego_token = token(seed, 6, data_index);
-      ego_poses.push_back({{"token", ego_token},
-                           {"timestamp", stamp},
-                           {"rotation", quaternionYaw(pose.z())},
-                           {"translation", {pose.x(), pose.y(), 0.0}}});
-      sample_data.push_back({{"token", token(seed, 7, data_index)},
-                             {"sample_token", token(seed, 3, sample_of[k])},
-                             {"ego_pose_token", ego_token},
-                             {"calibrated_sensor_token", calib_token},
-                             {"timestamp", stamp},
-                             {"fileformat", "pcd"},
-                             {"is_key_frame", static_cast<bool>(key[k])},
-                             {"height", 0},
-                             {"width", 0},
-                             {"filename", filename},
-                             {"prev", k ? token(seed, 7, data_index - 1) : ""},
-                             {"next", k + 1 < sweeps ? token(seed, 7, data_index + 1) : ""}});
+      tables.addEgoPose(ego_token, stamp, quaternionYaw(pose.z()), {pose.x(), pose.y(), 0.0});
+      tables.addSampleData(token(seed, 7, data_index), token(seed, 3, sample_of[k]), ego_token, calib_token, stamp,
+                           static_cast<bool>(key[k]), filename, k ? token(seed, 7, data_index - 1) : "",
+                           k + 1 < sweeps ? token(seed, 7, data_index + 1) : "");
       ++data_index;
       if (c == 0) progressLine(sequence.progress, "radar_sim: front sweep", k, sweeps);
     }
   }
-  const json logs = json::array({{{"token", log_token},
-                                  {"logfile", "radar_sim-seed-" + std::to_string(seed)},
-                                  {"vehicle", "radar_sim"},
-                                  {"date_captured", ""},
-                                  {"location", "simulated"}}});
-  const json scenes = json::array({{{"token", scene_token},
-                                    {"log_token", log_token},
-                                    {"nbr_samples", nsamples},
-                                    {"first_sample_token", token(seed, 3, 0)},
-                                    {"last_sample_token", token(seed, 3, nsamples - 1)},
-                                    {"name", sequence.scene_name},
-                                    {"description", "radar_sim automotive sequence, seed " + std::to_string(seed) + ", " +
-                                                        std::to_string(total_detections) + " detections"}}});
-  auto write = [&](const char* name, const json& j) {
-    writeFileAtomically((fs::path(table_dir) / (std::string(name) + ".json")).string(), j.dump(1));
-  };
-  write("sensor", sensors);
-  write("calibrated_sensor", calibrations);
-  write("sample", samples);
-  write("sample_data", sample_data);
-  write("ego_pose", ego_poses);
-  write("scene", scenes);
-  write("log", logs);
+  tables.addLog(log_token, "radar_sim-seed-" + std::to_string(seed), "radar_sim", "", "simulated");
+  tables.addScene(scene_token, log_token, nsamples, token(seed, 3, 0), token(seed, 3, nsamples - 1), sequence.scene_name,
+                  "radar_sim automotive sequence, seed " + std::to_string(seed) + ", " + std::to_string(total_detections) +
+                      " detections");
+  tables.write(table_dir);
 
   SequenceSummary summary;
   summary.frames = frames;

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <stdexcept>
 #include <limits>
 #include <random>
 
@@ -10,7 +12,8 @@
 #include <pcl/registration/ndt.h>
 
 #include "radar_ndt/registration/weighted_ndt_2d.h"
-#include "radar_ndt/registration/impl/weighted_ndt_2d.hpp"  // detail::expNegative
+#include "radar_ndt/registration/detail/fast_exp.h"
+#include "radar_ndt/registration/detail/ndt_cost.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/sim/synthetic_scan.h"
 
@@ -483,7 +486,7 @@ class ExposedNDT : public WeightedNDT2D<PointRadar, PointRadar> {
     if (!initCompute()) return std::numeric_limits<double>::quiet_NaN();  // sets indices_
     if (model_stale_ || grids_.empty()) buildTargetModel();
     prepareSource();
-    return evaluate(grids_.back(), x, g, H);
+    return detail::ndtCost(grids_.back(), source_points_, x, g, H);
   }
 };
 }  // namespace
@@ -508,7 +511,7 @@ TEST(WeightedNDT2D, DerivativesMatchFiniteDifferences) {
     for (int i = 0; i < 3; ++i) {
       Eigen::Vector3d d = Eigen::Vector3d::Zero();
       d(i) = h;
-      Eigen::Vector3d gp, gm;
+      Eigen::Vector3d gp = Eigen::Vector3d::Zero(), gm = Eigen::Vector3d::Zero();
       Eigen::Matrix3d Hp;
       g_fd(i) = (ndt.cost(x + d, &gp, &Hp) - ndt.cost(x - d, &gm, &Hp)) / (2 * h);
       H_fd.col(i) = (gp - gm) / (2 * h);
@@ -551,4 +554,53 @@ TEST(WeightedNDT2D, IsMirrorEquivariant) {
       expectClose(ra.pose, pair.source_in_target, 0.03, 0.15);
     }
   }
+}
+
+// One settings struct behind the PCL-style setters: what a setter writes, getSettings() shows, and
+// setSettings() refuses a value out of range, naming it, without changing anything.
+TEST(WeightedNDT2D, SettersWriteOneSettingsStructThatSetSettingsValidates) {
+  WeightedNDT2D<PointRadar, PointRadar> ndt;
+  ndt.setResolutions({6.0f, 3.0f});
+  ndt.setPowerShift(0.25f);
+  ndt.setShiftSourceWeights(false);
+  ndt.setMinPointsPerCell(2);
+  ndt.setCellLookup(CellLookup::OverlappingGrids);
+  ndt.setSourceVoxelSize(0.5);
+  ndt.setMaxStep(1.0, 0.1);
+  const WeightedNDT2DSettings& s = ndt.getSettings();
+  EXPECT_EQ(s.resolutions, (std::vector<float>{6.0f, 3.0f}));
+  EXPECT_EQ(s.power_shift, 0.25f);
+  EXPECT_FALSE(s.shift_source_weights);
+  EXPECT_EQ(s.min_points_per_cell, 2);
+  EXPECT_EQ(s.cell_lookup, CellLookup::OverlappingGrids);
+  EXPECT_EQ(s.source_voxel_size, 0.5);
+  EXPECT_EQ(s.max_step_translation, 1.0);
+  EXPECT_EQ(s.max_step_rotation, 0.1);
+
+  WeightedNDT2DSettings bad = s;
+  bad.eigenvalue_ratio = 0.0;
+  try {
+    ndt.setSettings(bad);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("eigenvalue_ratio"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(ndt.getEigenvalueRatio(), 0.01) << "a refused setSettings changes nothing";
+  for (auto breakIt : std::vector<std::function<void(WeightedNDT2DSettings&)>>{
+           [](WeightedNDT2DSettings& x) { x.resolutions.clear(); },
+           [](WeightedNDT2DSettings& x) { x.resolutions = {-1.0f}; },
+           [](WeightedNDT2DSettings& x) { x.power_shift = std::numeric_limits<float>::quiet_NaN(); },
+           [](WeightedNDT2DSettings& x) { x.min_points_per_cell = 0; },
+           [](WeightedNDT2DSettings& x) { x.source_voxel_size = -0.1; },
+           [](WeightedNDT2DSettings& x) { x.max_step_rotation = 0.0; }}) {
+    WeightedNDT2DSettings b;
+    breakIt(b);
+    EXPECT_THROW(b.validate(), std::invalid_argument);
+  }
+  WeightedNDT2DSettings good;
+  good.resolutions = {4.0f};
+  good.power_shift = 0.3f;
+  ndt.setSettings(good);
+  EXPECT_EQ(ndt.getResolution(), 4.0f);
+  EXPECT_EQ(ndt.getPowerShift(), 0.3f);
 }

@@ -90,10 +90,6 @@ struct ScanningRunOptions {
   double pcl_voxel_size = 0.25;
 };
 
-/// Points merged per square voxel of `size` metres: position and time offset averaged, power the
-/// strongest, covariance averaged. Order: first appearance of each voxel.
-void mergeVoxels(const pcl::PointCloud<PointRadar>& in, double size, pcl::PointCloud<PointRadar>& out);
-
 struct ScanningRunResult {
   std::string sequence;
   ScanFormat format = ScanFormat::Oxford;

@@ -9,6 +9,9 @@
 // Cost: each source point scored against the cells near it, score = Σ wᵢ exp(−½ qᵀ Σ⁻¹ q) with
 // q = T(x)pᵢ − μ and wᵢ = max(pᵢ − s, 0) · exp(−½(σx + σy)) (eq. 2); maximised by Newton's method on
 // SE(2) with the analytic gradient and Hessian (Biber & Straßer 2003).
+// Where each part lives: the settings in weighted_ndt_2d_settings.h; the target model in
+// detail/ndt_grid.h, the weighted source points in detail/source_points.h, the cost in
+// detail/ndt_cost.h and the optimiser in detail/newton_optimizer.h; impl/ joins them.
 //
 // Point types: radar_ndt::PointRadar (power, covariance), pcl::PointXYZI (intensity = power, no
 // covariance), pcl::PointXYZ (power 1, no covariance); fields are detected at compile time. The
@@ -16,222 +19,19 @@
 // <radar_ndt/registration/impl/weighted_ndt_2d.hpp>.
 
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
 #include <pcl/point_types.h>
 #include <pcl/registration/registration.h>
-#include <pcl/search/kdtree.h>
 
 #include "radar_ndt/point_types.h"
+#include "radar_ndt/registration/detail/ndt_grid.h"
+#include "radar_ndt/registration/detail/source_points.h"
+#include "radar_ndt/registration/weighted_ndt_2d_settings.h"
 
 namespace radar_ndt {
-
-/// How a source point finds the target distributions it is scored against.
-enum class CellLookup {
-  /// One grid; a point is scored against the 2x2 block of cells whose centres are nearest to it
-  /// (the cell it falls in and the three neighbours on its side), as ndt_omp's direct search does.
-  Neighbours,
-  /// Biber's four overlapping grids, shifted by half a cell in x, y and both; a point is scored
-  /// against the cell it falls in, in each grid.
-  OverlappingGrids,
-};
-
-namespace detail {
-/// pcl::search::KdTree that builds its tree only when first searched. pcl::Registration::align
-/// rebuilds the target kd-tree for every new target; NDT never searches it, so the only user left
-/// is pcl::Registration::getFitnessScore(), which then pays for the tree when (and if) it is called.
-template <typename PointT>
-class LazyKdTree : public pcl::search::KdTree<PointT> {
- public:
-  using Base = pcl::search::KdTree<PointT>;
-  using typename Base::PointCloudConstPtr;
-  using IndicesConstPtr = pcl::IndicesConstPtr;
-  using Base::nearestKSearch;
-  using Base::radiusSearch;
-
-  void setInputCloud(const PointCloudConstPtr& cloud, const IndicesConstPtr& indices = IndicesConstPtr()) override {
-    this->input_ = cloud;
-    this->indices_ = indices;
-    built_ = false;
-  }
-  int nearestKSearch(const PointT& point, int k, pcl::Indices& k_indices,
-                     std::vector<float>& k_sqr_distances) const override {
-    build();
-    return Base::nearestKSearch(point, k, k_indices, k_sqr_distances);
-  }
-  int radiusSearch(const PointT& point, double radius, pcl::Indices& k_indices, std::vector<float>& k_sqr_distances,
-                   unsigned int max_nn = 0) const override {
-    build();
-    return Base::radiusSearch(point, radius, k_indices, k_sqr_distances, max_nn);
-  }
-
- private:
-  void build() const {
-    if (!built_ && this->input_) {
-      const_cast<LazyKdTree*>(this)->Base::setInputCloud(this->input_, this->indices_);
-      built_ = true;
-    }
-  }
-  mutable bool built_ = false;
-};
-
-/// A 2D integer cell or voxel coordinate packed into one 64-bit key, and the hash both maps below
-/// use (splitmix64's finaliser).
-inline std::uint64_t packKey(std::int32_t ix, std::int32_t iy) {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(ix)) << 32) | static_cast<std::uint32_t>(iy);
-}
-inline void unpackKey(std::uint64_t key, std::int32_t& ix, std::int32_t& iy) {
-  ix = static_cast<std::int32_t>(static_cast<std::uint32_t>(key >> 32));
-  iy = static_cast<std::int32_t>(static_cast<std::uint32_t>(key & 0xffffffffu));
-}
-inline std::uint64_t hashKey(std::uint64_t k) {
-  k ^= k >> 30;
-  k *= 0xbf58476d1ce4e5b9ULL;
-  k ^= k >> 27;
-  k *= 0x94d049bb133111ebULL;
-  k ^= k >> 31;
-  return k;
-}
-
-/// Open-addressing hash from a 2D integer key to up to four cell indices (-1 = none). Memory is
-/// linear in the number of keys; there is no dense grid over the extent.
-class CellIndexHash {
- public:
-  void clear();
-  void reserve(std::size_t keys);
-  /// Adds `cell` to the slot list of key (ix, iy).
-  void add(std::int32_t ix, std::int32_t iy, std::int32_t cell);
-  /// After the last add(): when the keys' bounding box is small against their count (a scan or a
-  /// submap, not a long sparse track), also lay them out in a dense row-major table, so find() is
-  /// an index computation instead of a hash probe. A later add() drops the table.
-  void finalize();
-  /// The four slots of (ix, iy), or nullptr when the key is absent.
-  inline const std::int32_t* find(std::int32_t ix, std::int32_t iy) const {
-    if (!dense_.empty()) {
-      const std::int64_t dx = static_cast<std::int64_t>(ix) - dense_x0_, dy = static_cast<std::int64_t>(iy) - dense_y0_;
-      if (dx < 0 || dy < 0 || dx >= dense_w_ || dy >= dense_h_) return nullptr;
-      const std::int32_t* slots = dense_[static_cast<std::size_t>(dy * dense_w_ + dx)].slots;
-      return slots[0] >= 0 ? slots : nullptr;
-    }
-    if (size_ == 0) return nullptr;
-    const std::uint64_t key = packKey(ix, iy);
-    std::size_t h = hashKey(key) & mask_;
-    while (entries_[h].slots[0] >= 0) {
-      if (entries_[h].key == key) return entries_[h].slots;
-      h = (h + 1) & mask_;
-    }
-    return nullptr;
-  }
-  std::size_t size() const { return size_; }
-  std::size_t memoryBytes() const;
-
- private:
-  /// Key and its four slots in one 24-byte entry: a lookup touches one cache line. An entry is
-  /// empty while slots[0] < 0 (an occupied key always has a first slot).
-  struct Entry {
-    std::uint64_t key;
-    std::int32_t slots[4];
-  };
-  struct Slots {
-    std::int32_t slots[4];
-  };
-  std::vector<Entry> entries_;
-  std::size_t size_ = 0;
-  std::size_t mask_ = 0;
-  std::vector<Slots> dense_;  ///< empty unless finalize() found the keys compact
-  std::int64_t dense_x0_ = 0, dense_y0_ = 0, dense_w_ = 0, dense_h_ = 0;
-};
-
-/// Open-addressing map from a packed 2D integer key to a dense index (0, 1, 2, … in order of first
-/// insertion), for grouping points by cell or voxel in one pass without sorting.
-class KeyIndexMap {
- public:
-  explicit KeyIndexMap(std::size_t expected_keys) {
-    std::size_t cap = 16;
-    while (cap < 2 * expected_keys) cap <<= 1;
-    keys_.assign(cap, 0);
-    index_.assign(cap, -1);
-    mask_ = cap - 1;
-  }
-  /// The index of key (ix, iy), inserting it with index `next` when absent (then `inserted` is true).
-  inline std::int32_t findOrInsert(std::int32_t ix, std::int32_t iy, std::int32_t next, bool& inserted) {
-    if (2 * (count_ + 1) > keys_.size()) grow();
-    const std::uint64_t key = packKey(ix, iy);
-    std::size_t h = hashKey(key) & mask_;
-    while (index_[h] >= 0) {
-      if (keys_[h] == key) {
-        inserted = false;
-        return index_[h];
-      }
-      h = (h + 1) & mask_;
-    }
-    keys_[h] = key;
-    index_[h] = next;
-    ++count_;
-    inserted = true;
-    return next;
-  }
-
- private:
-  void grow() {
-    std::vector<std::uint64_t> keys;
-    std::vector<std::int32_t> index;
-    keys.swap(keys_);
-    index.swap(index_);
-    keys_.assign(2 * keys.size(), 0);
-    index_.assign(2 * keys.size(), -1);
-    mask_ = keys_.size() - 1;
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-      if (index[i] < 0) continue;
-      std::size_t h = hashKey(keys[i]) & mask_;
-      while (index_[h] >= 0) h = (h + 1) & mask_;
-      keys_[h] = keys[i];
-      index_[h] = index[i];
-    }
-  }
-  std::vector<std::uint64_t> keys_;
-  std::vector<std::int32_t> index_;
-  std::size_t mask_ = 0, count_ = 0;
-};
-
-/// One target distribution: weighted mean and inverse covariance (upper triangle).
-struct NdtCell {
-  double mx, my;      ///< μ
-  double ixx, ixy, iyy;  ///< Σ⁻¹
-  double weight;      ///< Σ wᵢ of the points that built it
-};
-
-/// The target's distributions at one grid size, with the lookup from a point to its cells.
-struct NdtGrid {
-  double resolution = 0;
-  CellLookup lookup = CellLookup::Neighbours;
-  std::vector<NdtCell> cells;
-  CellIndexHash index;
-  /// Lookup keys are floor(x · key_scale + key_shift): the nearest grid vertex (Neighbours) or the
-  /// half-size cell (OverlappingGrids).
-  double key_scale = 1, key_shift = 0;
-  void setLookup(double g, CellLookup l) {
-    resolution = g;
-    lookup = l;
-    key_scale = l == CellLookup::Neighbours ? 1.0 / g : 2.0 / g;
-    key_shift = l == CellLookup::Neighbours ? 0.5 : 0.0;
-  }
-  /// Up to four cells to score a point at (x, y) against; returns the slot array or nullptr.
-  inline const std::int32_t* cellsNear(double x, double y) const {
-    const double u = x * key_scale + key_shift, v = y * key_scale + key_shift;
-    if (!(std::abs(u) < 1e9 && std::abs(v) < 1e9)) return nullptr;  // far away or NaN: no key
-    return index.find(static_cast<std::int32_t>(std::floor(u)), static_cast<std::int32_t>(std::floor(v)));
-  }
-};
-
-/// A source point reduced to what the cost needs.
-struct WeightedPoint2D {
-  double x, y, w;
-};
-}  // namespace detail
 
 template <typename PointSource, typename PointTarget>
 class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> {
@@ -253,45 +53,49 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   /// changing settings and target together costs one build.
   void setInputTarget(const PointCloudTargetConstPtr& cloud) override;
 
+  /// Every setting below at once (validated: std::invalid_argument names the first one out of
+  /// range); the model is rebuilt at the next setInputTarget() or align().
+  void setSettings(const WeightedNDT2DSettings& settings);
+  const WeightedNDT2DSettings& getSettings() const { return settings_; }
+
   /// Grid size g (m), single stage. Default 3.0 m.
   void setResolution(float g) { setResolutions({g}); }
   /// Coarse-to-fine grid sizes (e.g. {9, 6, 4}); each stage starts from the previous result.
   void setResolutions(const std::vector<float>& sizes);
-  const std::vector<float>& getResolutions() const { return resolutions_; }
-  float getResolution() const { return resolutions_.back(); }
+  const std::vector<float>& getResolutions() const { return settings_.resolutions; }
+  float getResolution() const { return settings_.resolutions.back(); }
 
   /// Power shift s of eq. (1)-(2): weights max(p − s, 0). Default 0.
   void setPowerShift(float s);
-  float getPowerShift() const { return power_shift_; }
+  float getPowerShift() const { return settings_.power_shift; }
   /// Whether the matching weights of eq. (2) use the shift too (the paper, and the default) or are
-  /// p·exp(−½(σx + σy)) with the shift kept for the cells of eq. (1) only (an ablation: on the
-  /// simulated drives the source's shift is what costs accuracy; README, "Scanning radar odometry").
-  void setShiftSourceWeights(bool on) { shift_source_ = on; }
-  bool getShiftSourceWeights() const { return shift_source_; }
+  /// p·exp(−½(σx + σy)) with the shift kept for the cells of eq. (1) only (an ablation).
+  void setShiftSourceWeights(bool on) { settings_.shift_source_weights = on; }
+  bool getShiftSourceWeights() const { return settings_.shift_source_weights; }
 
   /// A cell's smallest covariance eigenvalue is raised to at least ratio × its largest. Default 0.01.
   void setEigenvalueRatio(double ratio);
-  double getEigenvalueRatio() const { return eigen_ratio_; }
+  double getEigenvalueRatio() const { return settings_.eigenvalue_ratio; }
 
   /// Cells built from fewer points are dropped. Default 3.
   void setMinPointsPerCell(int n);
-  int getMinPointsPerCell() const { return min_points_per_cell_; }
+  int getMinPointsPerCell() const { return settings_.min_points_per_cell; }
 
   /// Source points falling in one voxel of this size (m) are merged into one point at their
   /// weighted centroid carrying their summed weight, before matching. 0 turns it off. Default
   /// 0.25 m: small against the cells' spread, it leaves the cost almost unchanged and cuts the
-  /// evaluation time with the point count (README, "Matcher speed").
-  void setSourceVoxelSize(double size_m) { source_voxel_size_ = std::max(0.0, size_m); }
-  double getSourceVoxelSize() const { return source_voxel_size_; }
+  /// evaluation time with the point count.
+  void setSourceVoxelSize(double size_m) { settings_.source_voxel_size = std::max(0.0, size_m); }
+  double getSourceVoxelSize() const { return settings_.source_voxel_size; }
 
   void setCellLookup(CellLookup lookup);
-  CellLookup getCellLookup() const { return lookup_; }
+  CellLookup getCellLookup() const { return settings_.cell_lookup; }
 
   /// Newton steps are limited to this translation (m, default: half the grid size) and rotation
   /// (rad, default 0.2) before the line search.
   void setMaxStep(double translation_m, double rotation_rad) {
-    max_step_translation_ = translation_m;
-    max_step_rotation_ = rotation_rad;
+    settings_.max_step_translation = translation_m;
+    settings_.max_step_rotation = rotation_rad;
   }
 
   /// Newton iterations of the last align(), summed over coarse-to-fine stages (PCL NDT's name).
@@ -333,32 +137,14 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
 
   void computeTransformation(PointCloudSource& output, const Matrix4& guess) override;
 
-  /// Value, gradient and Hessian of the negative score at pose x = (tx, ty, yaw) on one grid.
-  /// Deterministic: terms are summed in source-point order. `stride` > 1 uses every stride-th point.
-  double evaluate(const detail::NdtGrid& grid, const Eigen::Vector3d& x, Eigen::Vector3d* gradient,
-                  Eigen::Matrix3d* hessian, std::size_t* matched = nullptr,
-                  Eigen::Matrix3d* information = nullptr, std::size_t stride = 1) const;
-
   void buildTargetModel();
-  void buildGrid(detail::NdtGrid& grid, double resolution) const;
   void prepareSource();
 
-  std::vector<float> resolutions_{3.0f};
-  float power_shift_ = 0.0f;
-  bool shift_source_ = true;
-  double eigen_ratio_ = 0.01;
-  int min_points_per_cell_ = 3;
-  CellLookup lookup_ = CellLookup::Neighbours;
-  double source_voxel_size_ = 0.25;
-  double max_step_translation_ = -1;  // < 0: half the grid size
-  double max_step_rotation_ = 0.2;
-
+  WeightedNDT2DSettings settings_;
   std::vector<detail::NdtGrid> grids_;  // one per resolution, coarse to fine
   bool model_stale_ = false;            // a setting changed since grids_ was built
   std::vector<detail::WeightedPoint2D> source_points_;
-  std::vector<std::int32_t> voxel_keys_;   // scratch of prepareSource's voxel merge: each point's key
-  std::vector<std::int32_t> voxel_table_;  // and the dense table of voxel slots
-  std::vector<detail::WeightedPoint2D> voxel_merged_;  // and the merged points (then the previous source)
+  detail::SourceVoxelScratch voxel_scratch_;
 
   int final_num_iterations_ = 0;
   Eigen::Matrix3d final_hessian_ = Eigen::Matrix3d::Zero();

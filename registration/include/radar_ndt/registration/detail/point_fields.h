@@ -1,0 +1,65 @@
+#pragma once
+// What WeightedNDT2D reads from a point, for any PCL point type: fields are detected at compile
+// time, so pcl::PointXYZ (power 1, no covariance), pcl::PointXYZI (intensity = power) and
+// radar_ndt::PointRadar (power, covariance) all work.
+
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Core>
+#include <pcl/point_types.h>
+#include <pcl/type_traits.h>
+
+#include "radar_ndt/point_types.h"
+
+namespace radar_ndt {
+namespace detail {
+
+/// Power used for the weights: PointRadar's `power`, PointXYZI's `intensity`, else 1.
+template <typename PointT>
+inline float pointPower(const PointT& p) {
+  if constexpr (pcl::traits::has_field<PointT, pcl::fields::power>::value)
+    return p.power;
+  else if constexpr (pcl::traits::has_field<PointT, pcl::fields::intensity>::value)
+    return p.intensity;
+  else {
+    (void)p;
+    return 1.0f;
+  }
+}
+
+/// The point's own 2x2 position covariance, zero when the type has none.
+template <typename PointT>
+inline Eigen::Vector3d pointCovariance(const PointT& p) {  // (xx, xy, yy)
+  if constexpr (pcl::traits::has_field<PointT, pcl::fields::cov_xx>::value)
+    return Eigen::Vector3d(p.cov_xx, p.cov_xy, p.cov_yy);
+  else {
+    (void)p;
+    return Eigen::Vector3d::Zero();
+  }
+}
+
+template <typename PointT>
+inline void rotateCovariance(PointT& p, const Eigen::Matrix2d& R) {
+  if constexpr (pcl::traits::has_field<PointT, pcl::fields::cov_xx>::value) {
+    Eigen::Matrix2d C;
+    C << p.cov_xx, p.cov_xy, p.cov_xy, p.cov_yy;
+    const Eigen::Matrix2d Cr = R * C * R.transpose();
+    p.cov_xx = static_cast<float>(Cr(0, 0));
+    p.cov_xy = static_cast<float>(Cr(0, 1));
+    p.cov_yy = static_cast<float>(Cr(1, 1));
+  } else {
+    (void)p;
+    (void)R;
+  }
+}
+
+/// A usable point: finite position and covariance, covariance not negative on the diagonal.
+inline bool usable(double x, double y, const Eigen::Vector3d& cov) {
+  return std::isfinite(x) && std::isfinite(y) && cov.allFinite() && cov.x() >= 0 && cov.z() >= 0;
+}
+
+inline std::int32_t floorToInt(double v) { return static_cast<std::int32_t>(std::floor(v)); }
+
+}  // namespace detail
+}  // namespace radar_ndt

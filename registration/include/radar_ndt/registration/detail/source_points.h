@@ -1,0 +1,123 @@
+#pragma once
+// The source scan as WeightedNDT2D's cost uses it: each point reduced to (x, y, w) with the
+// matching weight of the paper's eq. (2), optionally merged into small voxels.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <pcl/point_cloud.h>
+#include <pcl/types.h>
+
+#include "radar_ndt/registration/detail/cell_hash.h"
+#include "radar_ndt/registration/detail/fast_exp.h"
+#include "radar_ndt/registration/detail/point_fields.h"
+
+namespace radar_ndt {
+namespace detail {
+
+/// A source point reduced to what the cost needs.
+struct WeightedPoint2D {
+  double x, y, w;
+};
+
+/// Buffers the voxel merge reuses from scan to scan (so nothing is allocated while scans keep
+/// their size).
+struct SourceVoxelScratch {
+  std::vector<std::int32_t> keys;   ///< each point's voxel key
+  std::vector<std::int32_t> table;  ///< the dense table of voxel slots
+  std::vector<WeightedPoint2D> merged;  ///< the merged points (then the previous source)
+};
+
+/// The usable points of `cloud` at `indices` with their eq. (2) weights
+/// w = max(p − s, 0) · exp(−½(σx + σy)); points of zero or non-finite weight are left out.
+template <typename PointT>
+void weightSourcePoints(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& indices, double shift,
+                        std::vector<WeightedPoint2D>& out) {
+  out.clear();
+  out.reserve(indices.size());
+  for (const auto i : indices) {
+    const PointT& p = cloud[i];
+    const Eigen::Vector3d cov = pointCovariance(p);
+    if (!usable(p.x, p.y, cov)) continue;
+    const double w = std::max(0.0, static_cast<double>(pointPower(p)) - shift) *
+                     expNegative(-0.5 * (std::sqrt(cov.x()) + std::sqrt(cov.z())));
+    if (!(w > 0.0) || !std::isfinite(w)) continue;
+    out.push_back({p.x, p.y, w});
+  }
+}
+
+/// Points in one voxel of side `v` (> 0) become one point at their weighted centroid carrying
+/// their summed weight, in order of each voxel's first point. The cost Σ wᵢ exp(−½ qᵢᵀΣ⁻¹qᵢ)
+/// barely changes while the voxel is small against the cells' spread; evaluation time drops with
+/// the point count. Points beyond any sensible extent cannot be keyed and are dropped.
+inline void mergeSourceVoxels(double v, std::vector<WeightedPoint2D>& points, SourceVoxelScratch& scratch) {
+  if (!(v > 0) || points.size() <= 1) return;
+  // Each point's voxel key and the keys' extent, in one pass (the kept points keep their order).
+  std::vector<std::int32_t>& keys = scratch.keys;
+  keys.resize(2 * points.size());
+  std::int32_t x0 = std::numeric_limits<std::int32_t>::max(), y0 = x0;
+  std::int32_t x1 = std::numeric_limits<std::int32_t>::min(), y1 = x1;
+  std::size_t n = 0;
+  for (const auto& p : points) {
+    const double u = p.x / v, w = p.y / v;
+    if (!(std::abs(u) < 1e9 && std::abs(w) < 1e9)) continue;
+    const std::int32_t kx = floorToInt(u), ky = floorToInt(w);
+    points[n] = p;
+    keys[2 * n] = kx;
+    keys[2 * n + 1] = ky;
+    ++n;
+    x0 = std::min(x0, kx);
+    x1 = std::max(x1, kx);
+    y0 = std::min(y0, ky);
+    y1 = std::max(y1, ky);
+  }
+  points.resize(n);
+  // (Σ w x, Σ w y, Σ w), in order of first point; swapped with `points` below, so the two buffers
+  // take turns and neither is allocated again while scans keep their size.
+  std::vector<WeightedPoint2D>& merged = scratch.merged;
+  merged.clear();
+  merged.reserve(n);
+  auto accumulate = [&](std::int32_t slot, const WeightedPoint2D& p) {
+    auto& m = merged[static_cast<std::size_t>(slot)];
+    m.x += p.w * p.x;
+    m.y += p.w * p.y;
+    m.w += p.w;
+  };
+  const std::int64_t width = std::int64_t(x1) - x0 + 1, height = std::int64_t(y1) - y0 + 1;
+  // A compact extent (a scan, a submap): a dense table of voxel slots, filled in far less time than
+  // hashing the points takes (at most 64 slots a point beyond 1 MB, and never over 16 MB).
+  // Neighbouring points share table rows, where a hash scatters them; both keep first-seen order,
+  // so the merged points are the same either way.
+  const std::int64_t slots = width * height;
+  if (n > 0 && slots <= std::min<std::int64_t>(64 * static_cast<std::int64_t>(n) + (1 << 18), 1 << 22)) {
+    scratch.table.assign(static_cast<std::size_t>(slots), -1);
+    for (std::size_t i = 0; i < n; ++i) {
+      std::int32_t& slot =
+          scratch.table[static_cast<std::size_t>(std::int64_t(keys[2 * i] - x0) * height + (keys[2 * i + 1] - y0))];
+      if (slot < 0) {
+        slot = static_cast<std::int32_t>(merged.size());
+        merged.push_back({0, 0, 0});
+      }
+      accumulate(slot, points[i]);
+    }
+  } else {
+    KeyIndexMap map(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      bool inserted = false;
+      const std::int32_t slot = map.findOrInsert(keys[2 * i], keys[2 * i + 1], static_cast<std::int32_t>(merged.size()), inserted);
+      if (inserted) merged.push_back({0, 0, 0});
+      accumulate(slot, points[i]);
+    }
+  }
+  for (auto& m : merged) {
+    m.x /= m.w;
+    m.y /= m.w;
+  }
+  points.swap(merged);
+}
+
+}  // namespace detail
+}  // namespace radar_ndt

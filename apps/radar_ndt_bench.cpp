@@ -84,7 +84,7 @@ int benchNuScenes(const std::string& dataroot, std::size_t stride, bool json) {
   };
   std::vector<Pair> pairs;
   for (const auto& scene : ds.scenes()) {
-    const NuScenesRadarSequence seq(ds, scene, NuScenesRadarSequence::Options{});
+    const NuScenesRadarSequence seq(ds, scene, NuScenesSequenceOptions{});
     ProbabilisticSubmap submap(3);
     pcl::PointCloud<PointRadar>::Ptr previous;
     for (std::size_t k = 0; k < seq.size(); ++k) {
@@ -105,7 +105,7 @@ int benchNuScenes(const std::string& dataroot, std::size_t stride, bool json) {
   for (const radar_ndt::Method m : {radar_ndt::Method::PwNdt, radar_ndt::Method::PclNdt, radar_ndt::Method::PclIcp}) {
     std::vector<double> ms;
     double et = 0, er = 0;
-    auto reg = makeMatcher(m, 3.0);
+    RadarRegistration::Ptr reg = makeMatcher(m, 3.0).registrationPtr();
     pcl::PointCloud<PointRadar> out;
     for (const auto& p : pairs) {
       const auto t0 = std::chrono::steady_clock::now();

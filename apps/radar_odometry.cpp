@@ -92,7 +92,7 @@ json scanningSummaryJson(const ScanningRunResult& r, const ScanningRunOptions& o
   json j;
   j["sequence"] = r.sequence;
   j["format"] = toString(r.format);
-  j["method"] = toString(o.method);
+  j["method"] = toString(o.matcher.method);
   j["scans"] = c.cycles;
   j["scan_period_s"] = r.period_s;
   addStepCounts(j, c);
@@ -143,7 +143,7 @@ int runScanningMode(const ScanningRunOptions& options, ScanFormat format, const 
     const PosePairs pairs = associate(r.ground_truth, r.estimate);
     report = evaluate(pairs, metrics);
     j["metrics"] = metricsOf(*report);
-    if (!a.plot_path.empty()) writeEvaluationSvg(a.plot_path, pairs, *report, sequence.name() + " (" + toString(options.method) + ")");
+    if (!a.plot_path.empty()) writeEvaluationSvg(a.plot_path, pairs, *report, sequence.name() + " (" + toString(options.matcher.method) + ")");
   }
   if (a.json_out) {
     std::cout << j.dump(2) << std::endl;
@@ -207,16 +207,16 @@ int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const st
   rows.push_back(run("comparison", "ours (pw-ndt)", base));
   for (const Method m : {Method::PclNdt, Method::PclIcp}) {
     ScanningRunOptions o = base;
-    o.method = m;
+    o.matcher.method = m;
     std::snprintf(label, sizeof label, "%s, documented (%s %.2f m)", toString(m), m == Method::PclNdt ? "resolution" : "max corr.",
-                  o.odometry.scanning.grid);
+                  o.odometry.grid);
     rows.push_back(run("comparison", label, o));
     const std::size_t documented = rows.size() - 1;
     // The sweep: the grid (NDT resolution / ICP correspondence distance) scored on the first
     // sequence's first scans by frame-to-frame translation error; the best runs everywhere.
-    double best_err = std::numeric_limits<double>::infinity(), best_grid = o.odometry.scanning.grid;
+    double best_err = std::numeric_limits<double>::infinity(), best_grid = o.odometry.grid;
     for (const double g : {2.5, 3.75, 5.0}) {
-      o.odometry.scanning.grid = g;
+      o.odometry.grid = g;
       std::snprintf(label, sizeof label, "%s sweep %.2f", toString(m), g);
       const Row sweep = run("sweep", label, o, sweep_scans, 1);
       if (sweep.frame_t[0] < best_err) {
@@ -225,12 +225,12 @@ int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const st
       }
     }
     std::snprintf(label, sizeof label, "%s, best of sweep (%.2f m)", toString(m), best_grid);
-    if (best_grid == base.odometry.scanning.grid) {  // the documented run already is this one
+    if (best_grid == base.odometry.grid) {  // the documented run already is this one
       Row again = rows[documented];
       again.name = label;
       rows.push_back(again);
     } else {
-      o.odometry.scanning.grid = best_grid;
+      o.odometry.grid = best_grid;
       rows.push_back(run("comparison", label, o));
     }
   }
@@ -240,23 +240,23 @@ int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const st
     change(o);
     rows.push_back(run("ablation", name, o));
   };
-  ablate("power shift off (s = 0)", [](ScanningRunOptions& o) { o.odometry.scanning.power_shift = 0; });
-  ablate("shift in the cells only", [](ScanningRunOptions& o) { o.odometry.scanning.shift_source_weights = false; });
+  ablate("power shift off (s = 0)", [](ScanningRunOptions& o) { o.odometry.power_shift = 0; });
+  ablate("shift in the cells only", [](ScanningRunOptions& o) { o.odometry.shift_source_weights = false; });
   for (const float t : {0.2f, 0.3f, 0.4f, 0.5f}) {
     std::snprintf(label, sizeof label, "threshold = s = %.1f", static_cast<double>(t));
     ablate(label, [t](ScanningRunOptions& o) {
       o.front_end.threshold = t;
-      o.odometry.scanning.power_shift = t;
+      o.odometry.power_shift = t;
     });
   }
   for (const double g : {2.5, 5.0}) {
     std::snprintf(label, sizeof label, "grid g = %.1f m", g);
-    ablate(label, [g](ScanningRunOptions& o) { o.odometry.scanning.grid = g; });
+    ablate(label, [g](ScanningRunOptions& o) { o.odometry.grid = g; });
   }
-  ablate("scan to scan (no keyframes, the paper)", [](ScanningRunOptions& o) { o.odometry.scanning.keyframe_distance = 0; });
-  ablate("motion compensation off", [](ScanningRunOptions& o) { o.odometry.scanning.motion_compensation = false; });
+  ablate("scan to scan (no keyframes, the paper)", [](ScanningRunOptions& o) { o.odometry.keyframes.distance = 0; });
+  ablate("motion compensation off", [](ScanningRunOptions& o) { o.odometry.compensation.enabled = false; });
   ablate("polar points (no Cartesian image)", [](ScanningRunOptions& o) { o.front_end.cartesian = false; });
-  ablate("2x2-neighbour cell lookup", [](ScanningRunOptions& o) { o.cell_lookup = CellLookup::Neighbours; });
+  ablate("2x2-neighbour cell lookup", [](ScanningRunOptions& o) { o.matcher.ours.cell_lookup = CellLookup::Neighbours; });
 
   if (json_out) {
     json j = json::array();
@@ -391,23 +391,23 @@ int main(int argc, char** argv) {
     if (format == "oxford" || format == "radiate") {
       if (sequence_dirs.empty()) throw std::invalid_argument("--format " + format + " needs --sequence DIR");
       ScanningRunOptions o;
-      o.method = parseMethod(method_name);
-      if (o.method == Method::Doppler || o.method == Method::RappNdt)
+      o.matcher.method = parseMethod(method_name);
+      if (o.matcher.method == Method::Doppler || o.matcher.method == Method::RappNdt)
         throw std::invalid_argument("--method " + method_name + " needs Doppler, which scanning radars do not measure (pw-ndt, pcl-ndt, pcl-icp)");
-      auto& sc = o.odometry.scanning;
+      auto& sc = o.odometry;
       if (vm.count("grid")) {
         if (!(grid > 0)) throw std::invalid_argument("--grid must be > 0");
         sc.grid = grid;
       }
       if (!(power_shift >= 0 && power_shift < 1)) throw std::invalid_argument("--power-shift must be in [0, 1)");
       sc.power_shift = static_cast<float>(power_shift);
-      sc.motion_compensation = !no_motion_comp;
+      sc.compensation.enabled = !no_motion_comp;
       sc.shift_source_weights = !no_source_shift;
       if (vm.count("keyframe-distance")) {
         if (!(keyframe_distance >= 0)) throw std::invalid_argument("--keyframe-distance must be >= 0");
-        sc.keyframe_distance = keyframe_distance;
+        sc.keyframes.distance = keyframe_distance;
       }
-      if (no_gate) sc.max_acceleration = sc.max_yaw_acceleration = std::numeric_limits<double>::infinity();
+      if (no_gate) sc.gate.max_acceleration = sc.gate.max_yaw_acceleration = std::numeric_limits<double>::infinity();
       if (!(threshold >= 0 && threshold < 1)) throw std::invalid_argument("--threshold must be in [0, 1)");
       o.front_end.threshold = static_cast<float>(threshold);
       if (points_path != "cartesian" && points_path != "polar") throw std::invalid_argument("--points must be cartesian or polar");
@@ -477,7 +477,7 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("--ego-model must be auto, full or nonholonomic, not '" + ego_model + "'");
     options.front_end.remove_moving = !keep_moving;
     options.odometry.submap_size = submap;
-    options.odometry.gate = !no_gate;
+    options.odometry.gate.enabled = !no_gate;
     options.odometry.grid = grid;
     options.max_cycles = max_cycles;
     options = withMethod(options, parseMethod(method_name));
@@ -582,14 +582,14 @@ int main(int argc, char** argv) {
         writeFileAtomically(fileFor(steps_path, scene->name), csv.str());
       }
       json j = summaryJson(r);
-      j["method"] = toString(options.method);
+      j["method"] = toString(options.matcher.method);
       j["submap"] = options.odometry.submap_size;
       if (eval) {
         const PosePairs pairs = associate(r.ground_truth, r.estimate);
         const EvaluationReport rep = evaluate(pairs, metrics);
         reports.push_back(rep);
         j["metrics"] = metricsOf(rep);
-        if (!plot_path.empty()) writeEvaluationSvg(fileFor(plot_path, scene->name), pairs, rep, scene->name + " (" + toString(options.method) + ")");
+        if (!plot_path.empty()) writeEvaluationSvg(fileFor(plot_path, scene->name), pairs, rep, scene->name + " (" + toString(options.matcher.method) + ")");
       }
       if (!json_out) {
         const auto& c = r.counters;

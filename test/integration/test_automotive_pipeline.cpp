@@ -6,8 +6,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/pipeline/automotive_run.h"
-#include "radar_ndt/odometry/odometry.h"
+#include "radar_ndt/odometry/automotive_odometry.h"
 #include "radar_ndt/se2.h"
 
 using namespace radar_ndt;

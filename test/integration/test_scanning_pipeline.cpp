@@ -11,7 +11,7 @@
 
 #include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/evaluation/metrics.h"
-#include "radar_ndt/odometry/odometry.h"
+#include "radar_ndt/odometry/scanning_odometry.h"
 #include "radar_ndt/sim/radar_sim.h"
 #include "radar_ndt/pipeline/scanning_run.h"
 #include "radar_ndt/evaluation/top_view_map.h"
@@ -199,8 +199,8 @@ TEST(ScanningOdometry, ThePapersConfigurationReconvergesToTheCleanRunAfterAFault
   // from matches against compensated scans before it, so its differences persist: test above.)
   const std::string dir = test::freshTempDir("scanning_faults_paper");
   ScanningRunOptions options;
-  options.odometry.scanning.keyframe_distance = 0.0;
-  options.odometry.scanning.motion_compensation = false;
+  options.odometry.keyframes.distance = 0.0;
+  options.odometry.compensation.enabled = false;
   const ScanningRunResult clean = writeRunCleanAndInjectFaults(dir, options);
   ASSERT_EQ(clean.estimate.size(), kFaultSeqLength);
   const ScanningSequence sequence(dir, ScanFormat::Oxford);
@@ -257,7 +257,7 @@ TEST(ScanningOdometry, MotionCompensationHelpsOnAFastTurn) {
   sim::writeScanningSequence(dir, turningDrive(10.0, 20.0, 12.0), sim::WorldOptions(), sim::ScanningOptions(), seq);
   const ScanningSequence sequence(dir, ScanFormat::Oxford);
   ScanningRunOptions on, off;
-  off.odometry.scanning.motion_compensation = false;
+  off.odometry.compensation.enabled = false;
   const EvaluationReport with = frameErrors(runScanningOdometry(sequence, on));
   const EvaluationReport without = frameErrors(runScanningOdometry(sequence, off));
   // 0.5 rad/s: over a 0.25 s sweep the heading turns 7°, which a scan-to-scan match mistakes for

@@ -79,7 +79,7 @@ TEST(EgoVelocity, TheLateralPriorIsWeakAgainstDetectionsThatSeeASlide) {
   // prior off (Kellner 2014 as published).
   const Eigen::Vector3d v(8.0, 0.3, 0.2);
   const auto cloud = makeCycle(v, 12, 0.05, 3);
-  EgoVelocityEstimator::Options off;
+  EgoVelocityOptions off;
   off.lateral_sigma = 0;
   const EgoVelocity with = EgoVelocityEstimator().estimate(cloud, nuScenesLikeMountings());
   const EgoVelocity without = EgoVelocityEstimator(off).estimate(cloud, nuScenesLikeMountings());
@@ -134,7 +134,7 @@ TEST(EgoVelocity, OneRadarFallsBackToTheNonholonomicModel) {
   EXPECT_GT(e.covariance(2, 2), 0.0);
   for (int i = 0; i < 30; ++i) EXPECT_FALSE(inlier[static_cast<std::size_t>(i)]) << i;
 
-  EgoVelocityEstimator::Options full;
+  EgoVelocityOptions full;
   full.model = EgoVelocityModel::Full;
   EXPECT_FALSE(EgoVelocityEstimator(full).estimate(cloud, {front}).valid) << "one radar place cannot give (vx, vy, ω)";
   // Radars at several places keep the full model, and recover a sideways velocity it allows.
@@ -199,7 +199,7 @@ TEST(EgoVelocity, RealSweepsAgreeWithGroundTruthSpeed) {
     return v[v.size() / 2];
   };
   for (const auto& scene : ds.scenes()) {
-    const NuScenesRadarSequence seq(ds, scene, NuScenesRadarSequence::Options{});
+    const NuScenesRadarSequence seq(ds, scene, NuScenesSequenceOptions{});
     std::vector<double> err, one_speed_err, one_rate_err;
     for (std::size_t k = 1; k + 1 < seq.size(); ++k) {
       // Ground truth: central differences of the ego poses around cycle k.

@@ -1,11 +1,11 @@
-// Odometry::addScan on constructed scans: motion compensation, the failure handling on a bad match
+// ScanningOdometry::addScan on constructed scans: motion compensation, the failure handling on a bad match
 // (a bus filling the view) and the fit check in a scene that turns poorer for good.
 #include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
 
-#include "radar_ndt/odometry/odometry.h"
+#include "radar_ndt/odometry/scanning_odometry.h"
 
 using namespace radar_ndt;
 
@@ -63,9 +63,9 @@ TEST(ScanningOdometry, BusFillingTheViewTriggersTheFailureHandling) {
     if (std::fmod(x + 60, 23.0) < 0.5) world.emplace_back(x, 6.5 + std::fmod(x, 3.0));
   }
   const double step = 2.5;  // 10 m/s at 4 Hz
-  OdometryOptions options;
-  options.scanning.keyframe_distance = 0;  // scan to scan: every step sees the bus in its target
-  Odometry odometry(options, makeMatcher(Method::PwNdt, options.scanning.grid));
+  ScanningOdometryOptions options;
+  options.keyframes.distance = 0;  // scan to scan: every step sees the bus in its target
+  ScanningOdometry odometry(options, makeMatcher(Method::PwNdt, options.grid));
   for (int k = 0; k < 9; ++k) {
     pcl::PointCloud<PointRadar>::Ptr cloud = observeWorld(world, step * k, rng, noise);
     if (k >= 4)  // the bus: 12 m x 2.5 m beside the car, densely filled and saturated
@@ -104,8 +104,8 @@ TEST(ScanningOdometry, AScenePoorerForGoodCausesNoFallbackStorm) {
   for (double x = -60; x <= 200; x += 7.0) world.emplace_back(x, 6.5 + std::fmod(x, 3.0));
   const double step = 2.0;
   const int scans = 40, change = 8;
-  OdometryOptions options;
-  Odometry odometry(options, makeMatcher(Method::PwNdt, options.scanning.grid));
+  ScanningOdometryOptions options;
+  ScanningOdometry odometry(options, makeMatcher(Method::PwNdt, options.grid));
   for (int k = 0; k < scans; ++k) {
     pcl::PointCloud<PointRadar>::Ptr cloud = observeWorld(world, step * k, rng, noise);
     if (k >= change)
@@ -121,7 +121,7 @@ TEST(ScanningOdometry, AScenePoorerForGoodCausesNoFallbackStorm) {
   std::size_t failed_after_change = 0;
   for (int k = change; k < scans; ++k) failed_after_change += steps[k].status == StepStatus::Fallback;
   EXPECT_GE(odometry.counters().poor_fit, 1u) << "the first cluttered scan fits far worse than the clean ones";
-  EXPECT_LE(failed_after_change, options.scanning.fit_history / 2 + 1) << "the fit check did not adapt to the poorer scene";
+  EXPECT_LE(failed_after_change, options.fit.history / 2 + 1) << "the fit check did not adapt to the poorer scene";
   for (int k = scans - 10; k < scans; ++k)
     EXPECT_EQ(steps[k].status, StepStatus::Matched) << "step " << k << " long after the change";
 

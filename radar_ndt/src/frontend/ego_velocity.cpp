@@ -1,6 +1,8 @@
 #include "radar_ndt/frontend/ego_velocity.h"
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <limits>
 #include <random>
 
@@ -33,7 +35,7 @@ constexpr double kFreeLateral = 1.0;
 /// else x, the normal matrix (prior included), the inlier flags and their residual sum of squares.
 template <int D, typename Full>
 bool fitDoppler(const std::vector<Eigen::Matrix<double, D, 1>>& rows, const std::vector<double>& rhs,
-                const EgoVelocityEstimator::Options& o, Full full, int prior_index, double prior_sigma, Eigen::Matrix<double, D, 1>* x_out,
+                const EgoVelocityOptions& o, Full full, int prior_index, double prior_sigma, Eigen::Matrix<double, D, 1>* x_out,
                 Eigen::Matrix<double, D, D>* ata_out, std::vector<char>* in_out, double* rss_out) {
   using Vec = Eigen::Matrix<double, D, 1>;
   using Mat = Eigen::Matrix<double, D, D>;
@@ -134,6 +136,17 @@ bool fitDoppler(const std::vector<Eigen::Matrix<double, D, 1>>& rows, const std:
 double predictedDoppler(const SensorMounting& m, double px, double py, const Eigen::Vector3d& v) {
   Eigen::Vector3d a;
   return modelRow(m, px, py, a) ? a.dot(v) : 0.0;
+}
+
+void EgoVelocityOptions::validate() const {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("EgoVelocityOptions: " + what); };
+  if (!(inlier_threshold > 0) || !std::isfinite(inlier_threshold))
+    fail("inlier_threshold (the Doppler threshold, m/s) must be > 0, got " + std::to_string(inlier_threshold));
+  if (max_iterations < 1) fail("max_iterations must be >= 1");
+  if (min_inliers < 2) fail("min_inliers must be >= 2");
+  if (!(min_inlier_ratio >= 0 && min_inlier_ratio <= 1)) fail("min_inlier_ratio must be in [0, 1]");
+  if (!(lateral_sigma >= 0) || !std::isfinite(lateral_sigma))
+    fail("lateral_sigma must be >= 0 (0: no prior), got " + std::to_string(lateral_sigma));
 }
 
 EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings,

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 namespace radar_ndt {
 namespace {
@@ -101,12 +102,18 @@ struct PowerThreshold::Geometry {
   std::vector<float> wb;                   ///< weight of bin b0 + 1
 };
 
-PowerThreshold::PowerThreshold(const PowerThresholdOptions& options) : options_(options) {
-  if (!(options_.cartesian_resolution > 0) || !(options_.max_range > 0) || !(options_.min_range >= 0) ||
-      options_.min_range >= options_.max_range || !std::isfinite(options_.threshold) || !(options_.beam_width_deg > 0))
-    throw std::invalid_argument("PowerThreshold: resolution and range must be positive, min_range < max_range, "
-                                "threshold finite, beam width positive");
+void PowerThresholdOptions::validate() const {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("PowerThresholdOptions: " + what); };
+  if (!(cartesian_resolution > 0) || !std::isfinite(cartesian_resolution))
+    fail("cartesian_resolution (m per pixel) must be > 0, got " + std::to_string(cartesian_resolution));
+  if (!(min_range >= 0)) fail("min_range must be >= 0, got " + std::to_string(min_range));
+  if (!(max_range > min_range) || !std::isfinite(max_range))
+    fail("max_range must exceed min_range (" + std::to_string(min_range) + " m), got " + std::to_string(max_range));
+  if (!(threshold >= 0.0f && threshold < 1.0f)) fail("threshold must be in [0, 1) (power is 0..1), got " + std::to_string(threshold));
+  if (!(beam_width_deg > 0) || !std::isfinite(beam_width_deg)) fail("beam_width_deg must be > 0");
 }
+
+PowerThreshold::PowerThreshold(const PowerThresholdOptions& options) : options_(options) { options_.validate(); }
 
 const PowerThreshold::Geometry& PowerThreshold::geometry(const PolarScan& scan) const {
   if (scan.azimuths < 2 || scan.bins < 2) throw std::invalid_argument("PowerThreshold: scan has fewer than 2 azimuths or bins");

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "radar_ndt/frontend/probabilistic_submap.h"
 #include "radar_ndt/se2.h"
@@ -56,6 +58,14 @@ SensorMounting toMounting(const Eigen::Isometry3d& T) {
   m.yaw = std::atan2(forward.y(), forward.x());
   m.valid = true;
   return m;
+}
+
+void AutomotiveFrontEndOptions::validate() const {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("AutomotiveFrontEndOptions: " + what); };
+  if (!(polar.range_sigma_near > 0) || !(polar.range_sigma_far > 0) || !(polar.azimuth_sigma_center_deg > 0) ||
+      !(polar.azimuth_sigma_edge_deg > 0))
+    fail("the polar accuracies must be > 0");
+  ego_velocity.validate();
 }
 
 ProcessedCycle AutomotiveFrontEnd::process(const RadarCycle& cycle, const EgoVelocity* fallback) const {

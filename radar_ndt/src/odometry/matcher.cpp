@@ -1,14 +1,10 @@
 #define PCL_NO_PRECOMPILE
 #include "radar_ndt/odometry/matcher.h"
 
-#include <limits>
-
 #include <stdexcept>
 
 #include <pcl/registration/icp.h>
 #include <pcl/registration/ndt.h>
-
-#include "radar_ndt/registration/weighted_ndt_2d.h"
 
 namespace radar_ndt {
 
@@ -32,66 +28,50 @@ const char* toString(Method m) {
   return "?";
 }
 
-RadarRegistration::Ptr makeMatcher(Method method, double grid) {
-  switch (method) {
+void MatcherOptions::validate() const {
+  ours.validate();
+  if (ours_max_iterations < 1) throw std::invalid_argument("MatcherOptions: ours_max_iterations must be >= 1");
+  if (icp_max_iterations < 1) throw std::invalid_argument("MatcherOptions: icp_max_iterations must be >= 1");
+  if (!(icp_transformation_epsilon >= 0) || !(icp_fitness_epsilon >= 0))
+    throw std::invalid_argument("MatcherOptions: the ICP epsilons must be >= 0");
+}
+
+MatcherAdapter makeMatcher(const MatcherOptions& options, double grid) {
+  options.validate();
+  if (!(grid > 0) || !std::isfinite(grid)) throw std::invalid_argument("makeMatcher: the grid must be > 0 and finite");
+  switch (options.method) {
     case Method::PwNdt:
     case Method::RappNdt: {
       auto r = pcl::make_shared<WeightedNDT2D<PointRadar, PointRadar>>();
-      r->setResolution(static_cast<float>(grid));
-      r->setMaximumIterations(30);
-      // Probabilistic cells (Hong & Lee 2017): a cell's covariance includes its points' own
-      // covariances, so one detection defines a usable Gaussian. Sparse automotive submaps lose
-      // most cells to the default minimum of 3 (measured: 1m error 2.34 % → 1.73 % with 1).
-      r->setMinPointsPerCell(1);
-      return r;
+      WeightedNDT2DSettings s = options.ours;
+      s.resolutions = {static_cast<float>(grid)};
+      r->setSettings(s);
+      r->setMaximumIterations(options.ours_max_iterations);
+      return MatcherAdapter(r);
     }
     case Method::PclNdt: {
       auto r = pcl::make_shared<pcl::NormalDistributionsTransform<PointRadar, PointRadar>>();
       applyPclNdtSettings(*r, grid);
-      return r;
+      return MatcherAdapter(r);
     }
     case Method::PclIcp: {
       auto r = pcl::make_shared<pcl::IterativeClosestPoint<PointRadar, PointRadar>>();
       r->setMaxCorrespondenceDistance(grid);
-      r->setMaximumIterations(50);
-      r->setTransformationEpsilon(1e-8);
-      r->setEuclideanFitnessEpsilon(1e-8);
-      return r;
+      r->setMaximumIterations(options.icp_max_iterations);
+      r->setTransformationEpsilon(options.icp_transformation_epsilon);
+      r->setEuclideanFitnessEpsilon(options.icp_fitness_epsilon);
+      return MatcherAdapter(r);
     }
     case Method::Doppler:
-      return nullptr;
+      return MatcherAdapter();
   }
-  return nullptr;
+  return MatcherAdapter();
 }
 
-void setMatcherGrid(RadarRegistration& matcher, double grid) {
-  if (auto* ours = dynamic_cast<WeightedNDT2D<PointRadar, PointRadar>*>(&matcher))
-    ours->setResolution(static_cast<float>(grid));
-  else if (auto* ndt = dynamic_cast<pcl::NormalDistributionsTransform<PointRadar, PointRadar>*>(&matcher))
-    ndt->setResolution(static_cast<float>(grid));
-  else
-    matcher.setMaxCorrespondenceDistance(grid);
-}
-
-double matchScore(RadarRegistration& matcher) {
-  if (auto* ours = dynamic_cast<WeightedNDT2D<PointRadar, PointRadar>*>(&matcher)) return ours->getNdtScore();
-  if (auto* ndt = dynamic_cast<pcl::NormalDistributionsTransform<PointRadar, PointRadar>*>(&matcher))
-    return ndt->getTransformationLikelihood();
-  return -matcher.getFitnessScore();
-}
-
-double matchFitPerPoint(RadarRegistration& matcher) {
-  auto* ours = dynamic_cast<WeightedNDT2D<PointRadar, PointRadar>*>(&matcher);
-  if (!ours || ours->getNumSourcePoints() == 0) return std::numeric_limits<double>::quiet_NaN();
-  return ours->getNdtScore() / static_cast<double>(ours->getNumSourcePoints());
-}
-
-bool setMatcherPowerShift(RadarRegistration& matcher, float shift, bool shift_source) {
-  auto* ours = dynamic_cast<WeightedNDT2D<PointRadar, PointRadar>*>(&matcher);
-  if (!ours) return false;
-  ours->setPowerShift(shift);
-  ours->setShiftSourceWeights(shift_source);
-  return true;
+MatcherAdapter makeMatcher(Method method, double grid) {
+  MatcherOptions options;
+  options.method = method;
+  return makeMatcher(options, grid);
 }
 
 }  // namespace radar_ndt

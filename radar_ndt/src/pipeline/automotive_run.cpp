@@ -15,8 +15,15 @@ namespace {
 double ms(Clock::time_point a, Clock::time_point b) { return detail::msBetween(a, b); }
 }  // namespace
 
+void AutomotiveRunOptions::validate() const {
+  matcher.validate();
+  sequence.validate();
+  front_end.validate();
+  odometry.validate();
+}
+
 AutomotiveRunOptions withMethod(AutomotiveRunOptions options, Method method) {
-  options.method = method;
+  options.matcher.method = method;
   options.odometry.doppler_weights = method == Method::RappNdt;
   if (method == Method::RappNdt) options.front_end.remove_moving = false;
   return options;
@@ -24,12 +31,15 @@ AutomotiveRunOptions withMethod(AutomotiveRunOptions options, Method method) {
 
 AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene, const AutomotiveRunOptions& options,
                                           const std::function<void(std::size_t, std::size_t)>& progress) {
+  options.validate();
   const NuScenesRadarSequence sequence(dataset, scene, options.sequence);
   const AutomotiveFrontEnd front_end(options.front_end);
-  Odometry odometry(options.odometry, makeMatcher(options.method, options.odometry.grid));
+  AutomotiveOdometry odometry(options.odometry, makeMatcher(options.matcher, options.odometry.grid));
 
   AutomotiveRunResult result;
   result.scene = scene.name;
+  result.method = options.matcher.method;
+  result.submap_size = options.odometry.submap_size;
   result.reference_channel = sequence.referenceChannel();
   result.period_s = sequence.periodSeconds();
   const std::size_t n = options.max_cycles > 0 ? std::min(options.max_cycles, sequence.size()) : sequence.size();

@@ -19,8 +19,13 @@ std::string joinNames(const Range& range, Name name) {
 }
 }  // namespace
 
-NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene, const Options& options)
+void NuScenesSequenceOptions::validate() const {
+  if (!(filter.max_range > 0)) throw std::invalid_argument("NuScenesSequenceOptions: filter.max_range must be > 0");
+}
+
+NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene, const NuScenesSequenceOptions& options)
     : scene_name_(scene.name), options_(options), sweeps_(dataset.radarSweeps(scene)) {
+  options_.validate();
   if (sweeps_.empty()) throw std::invalid_argument("scene " + scene.name + " has no radar sweeps");
   const auto& channels = dataset.radarChannels();
   if (!options.channels.empty()) {

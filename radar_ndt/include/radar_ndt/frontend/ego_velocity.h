@@ -5,7 +5,7 @@
 //   v_r = −[cos φ, sin φ, mx sin φ − my cos φ] · [vx, vy, ω]ᵀ
 // (the sensor moves with v + ω × m). RANSAC on that linear model rejects moving objects and ghosts,
 // then least squares on the inliers gives the estimate and its 3x3 covariance. Beyond the paper,
-// the least squares also observes vy = 0 with σ Options::lateral_sigma: the vehicle frame's origin
+// the least squares also observes vy = 0 with σ EgoVelocityOptions::lateral_sigma: the vehicle frame's origin
 // (nuScenes: the rear axle) barely slides sideways, and without that prior the poorly observed vy
 // trades against ω (README, "Automotive pipeline").
 //
@@ -49,7 +49,7 @@ struct EgoVelocity {
   double residual_rms = 0;  ///< of the inliers (m/s)
   bool valid = false;       ///< false: too few or degenerate detections; velocity then meaningless
   /// The fit used vy = 0 (EgoVelocityModel::Nonholonomic, chosen or forced); vy's variance is then
-  /// Options::lateral_sigma², uncorrelated.
+  /// EgoVelocityOptions::lateral_sigma², uncorrelated.
   bool nonholonomic = false;
 };
 
@@ -57,27 +57,34 @@ struct EgoVelocity {
 /// moves with `v` = (vx, vy, ω).
 double predictedDoppler(const SensorMounting& m, double px, double py, const Eigen::Vector3d& v);
 
+struct EgoVelocityOptions {
+  double inlier_threshold = 0.25;  ///< |v_r − predicted| (m/s) for a RANSAC inlier
+  int max_iterations = 150;
+  std::size_t min_inliers = 6;
+  double min_inlier_ratio = 0.2;  ///< below this the cycle is called invalid (mostly moving scene)
+  std::uint32_t seed = 42;        ///< fixed: the same input gives the same answer
+  EgoVelocityModel model = EgoVelocityModel::Auto;
+  /// m/s, 1σ: how far vy ≈ 0 at the vehicle frame's origin is trusted. The full model's least
+  /// squares observes vy = 0 with this σ (a prior: 300 detections still outweigh it when they
+  /// see a slide); the nonholonomic model reports it as vy's σ. A car's side slip at the rear axle
+  /// is about 0.3° at 2 m/s² lateral acceleration, 0.05 m/s at 10 m/s. 0: no prior (Kellner
+  /// 2014 as published; the nonholonomic model then reports vy's σ as 1 m/s).
+  double lateral_sigma = 0.05;
+  /// Throws std::invalid_argument naming the setting out of range.
+  void validate() const;
+};
+
 class EgoVelocityEstimator {
  public:
-  struct Options {
-    double inlier_threshold = 0.25;  ///< |v_r − predicted| (m/s) for a RANSAC inlier
-    int max_iterations = 150;
-    std::size_t min_inliers = 6;
-    double min_inlier_ratio = 0.2;  ///< below this the cycle is called invalid (mostly moving scene)
-    std::uint32_t seed = 42;        ///< fixed: the same input gives the same answer
-    EgoVelocityModel model = EgoVelocityModel::Auto;
-    /// m/s, 1σ: how far vy ≈ 0 at the vehicle frame's origin is trusted. The full model's least
-    /// squares observes vy = 0 with this σ (a prior: 300 detections still outweigh it when they
-    /// see a slide); the nonholonomic model reports it as vy's σ. A car's side slip at the rear axle
-    /// is about 0.3° at 2 m/s² lateral acceleration, 0.05 m/s at 10 m/s. 0: no prior (Kellner
-    /// 2014 as published; the nonholonomic model then reports vy's σ as 1 m/s).
-    double lateral_sigma = 0.05;
-  };
 
   EgoVelocityEstimator() = default;
-  explicit EgoVelocityEstimator(const Options& o) : options_(o) {}
-  void setOptions(const Options& o) { options_ = o; }
-  const Options& options() const { return options_; }
+  /// Validates `o` (std::invalid_argument).
+  explicit EgoVelocityEstimator(const EgoVelocityOptions& o) : options_(o) { options_.validate(); }
+  void setOptions(const EgoVelocityOptions& o) {
+    o.validate();
+    options_ = o;
+  }
+  const EgoVelocityOptions& options() const { return options_; }
 
   /// `cloud` in the vehicle frame; `mountings` indexed by PointRadar::sensor_id. Points of
   /// sensors without a valid mounting, or non-finite, are ignored. `inlier` (optional) gets one
@@ -86,7 +93,7 @@ class EgoVelocityEstimator {
                        std::vector<bool>* inlier = nullptr) const;
 
  private:
-  Options options_;
+  EgoVelocityOptions options_;
 };
 
 }  // namespace radar_ndt

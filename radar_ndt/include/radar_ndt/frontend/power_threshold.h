@@ -29,6 +29,8 @@ struct PowerThresholdOptions {
   double min_range = 2.0;
   float threshold = 0.333f;           ///< power in 0..1 (paper)
   double beam_width_deg = 2.0;        ///< −3 dB azimuth beam width (CTS350-X: 2°); σθ = width / 2.355
+  /// Throws std::invalid_argument naming the setting out of range.
+  void validate() const;
 };
 
 /// A Cartesian power image centred on the sensor: row 0 is the far front (+x), column 0 the far

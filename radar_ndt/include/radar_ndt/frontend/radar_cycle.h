@@ -63,21 +63,25 @@ struct ProcessedCycle {
   std::size_t removed_moving = 0;         ///< removed by the Doppler outlier filter
 };
 
+struct AutomotiveFrontEndOptions {
+  PointCovarianceModel covariance_model = PointCovarianceModel::Polar;
+  PolarAccuracy polar;
+  EgoVelocityOptions ego_velocity;
+  /// Remove detections that disagree with the ego-velocity (Kellner's RANSAC outliers).
+  bool remove_moving = true;
+  /// Move each sweep to the reference time with the ego-velocity (constant over the cycle).
+  bool compensate_time = true;
+  /// Throws std::invalid_argument naming the setting out of range.
+  void validate() const;
+};
+
 class AutomotiveFrontEnd {
  public:
-  struct Options {
-    PointCovarianceModel covariance_model = PointCovarianceModel::Polar;
-    PolarAccuracy polar;
-    EgoVelocityEstimator::Options ego_velocity;
-    /// Remove detections that disagree with the ego-velocity (Kellner's RANSAC outliers).
-    bool remove_moving = true;
-    /// Move each sweep to the reference time with the ego-velocity (constant over the cycle).
-    bool compensate_time = true;
-  };
 
   AutomotiveFrontEnd() = default;
-  explicit AutomotiveFrontEnd(const Options& o) : options_(o) {}
-  const Options& options() const { return options_; }
+  /// Validates `o` (std::invalid_argument).
+  explicit AutomotiveFrontEnd(const AutomotiveFrontEndOptions& o) : options_(o) { options_.validate(); }
+  const AutomotiveFrontEndOptions& options() const { return options_; }
 
   /// When the ego-velocity of this cycle cannot be estimated (too few stationary detections),
   /// `fallback` (e.g. the previous cycle's) is used for the filter and the time compensation, and
@@ -85,7 +89,7 @@ class AutomotiveFrontEnd {
   ProcessedCycle process(const RadarCycle& cycle, const EgoVelocity* fallback = nullptr) const;
 
  private:
-  Options options_;
+  AutomotiveFrontEndOptions options_;
 };
 
 }  // namespace radar_ndt

@@ -1,14 +1,22 @@
 #pragma once
-// The scan matchers the odometry can run, as pcl::Registration<PointRadar, PointRadar> objects:
-// ours, and PCL's NDT and ICP with the settings README documents. PCL's templates for PointRadar
-// are compiled once, in src/matchers.cpp.
+// The scan matcher the odometries drive: any pcl::Registration<PointRadar, PointRadar>, behind a
+// small adapter (MatcherAdapter) that knows the few things the pipelines change or judge at run
+// time: the grid (retries enlarge it), the power shift (the scanning pipeline halves it) and the
+// match's score. makeMatcher() builds ours, PCL's NDT or PCL's ICP with their settings
+// (MatcherOptions); PCL's templates for PointRadar are compiled once, in src/odometry/matcher.cpp.
 
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <memory>
 #include <string>
-#include <vector>
+#include <type_traits>
+#include <utility>
 
 #include <pcl/registration/registration.h>
 
 #include "radar_ndt/point_types.h"
+#include "radar_ndt/registration/weighted_ndt_2d.h"
 
 namespace radar_ndt {
 
@@ -26,12 +34,125 @@ enum class Method {
 Method parseMethod(const std::string& name);
 const char* toString(Method method);
 
-/// A new matcher for `method` at grid size `grid` (NDT cell size; ICP: max correspondence
-/// distance). nullptr for Method::Doppler.
-RadarRegistration::Ptr makeMatcher(Method method, double grid);
+namespace detail {
+template <typename R, typename = void>
+struct HasPowerShift : std::false_type {};
+template <typename R>
+struct HasPowerShift<R, std::void_t<decltype(std::declval<R&>().setPowerShift(0.f)), decltype(std::declval<R&>().setShiftSourceWeights(true)),
+                                    decltype(std::declval<R&>().getNdtScore()), decltype(std::declval<R&>().getNumSourcePoints())>>
+    : std::true_type {};
+template <typename R, typename = void>
+struct HasResolution : std::false_type {};
+template <typename R>
+struct HasResolution<R, std::void_t<decltype(std::declval<R&>().setResolution(1.f))>> : std::true_type {};
+template <typename R, typename = void>
+struct HasTransformationLikelihood : std::false_type {};
+template <typename R>
+struct HasTransformationLikelihood<R, std::void_t<decltype(std::declval<R&>().getTransformationLikelihood())>> : std::true_type {};
+template <typename R, typename = void>
+struct HasTransformationProbability : std::false_type {};
+template <typename R>
+struct HasTransformationProbability<R, std::void_t<decltype(std::declval<R&>().getTransformationProbability())>> : std::true_type {};
+}  // namespace detail
 
-/// The settings README documents for pcl::NormalDistributionsTransform wherever it is compared
-/// with ours (any point type): resolution = grid, step 0.5, ε 1e-4, at most 50 iterations.
+/// A registration and what the odometry may change or read on it, decided once, from the static
+/// type it is built from (no casts at run time):
+///  - ours (WeightedNDT2D): grid = resolution, power shift, score = NDT score, fit per point;
+///  - a matcher with setResolution (PCL's NDT): grid = resolution, score = its transformation
+///    likelihood;
+///  - any other (PCL's ICP, a user's): grid = max correspondence distance, score = −fitness score.
+/// Pass the concrete type's pointer: a WeightedNDT2D given as a plain RadarRegistration::Ptr is
+/// driven as "any other". Empty (no registration): the odometry dead-reckons.
+class MatcherAdapter {
+ public:
+  MatcherAdapter() = default;
+  MatcherAdapter(std::nullptr_t) {}
+  template <typename R, typename = std::enable_if_t<std::is_base_of_v<RadarRegistration, R>>>
+  MatcherAdapter(std::shared_ptr<R> registration) : registration_(registration) {
+    if (!registration) return;
+    R* r = registration.get();
+    if constexpr (detail::HasResolution<R>::value)
+      set_grid_ = [r](double g) { r->setResolution(static_cast<float>(g)); };
+    else
+      set_grid_ = [r](double g) { r->setMaxCorrespondenceDistance(g); };
+    if constexpr (detail::HasPowerShift<R>::value) {
+      set_power_shift_ = [r](float s, bool shift_source) {
+        r->setPowerShift(s);
+        r->setShiftSourceWeights(shift_source);
+      };
+      score_ = [r] { return r->getNdtScore(); };
+      fit_per_point_ = [r] {
+        return r->getNumSourcePoints() == 0 ? std::numeric_limits<double>::quiet_NaN()
+                                            : r->getNdtScore() / static_cast<double>(r->getNumSourcePoints());
+      };
+    } else if constexpr (detail::HasTransformationLikelihood<R>::value) {
+      score_ = [r] { return r->getTransformationLikelihood(); };
+    } else if constexpr (detail::HasTransformationProbability<R>::value) {
+      score_ = [r] { return r->getTransformationProbability(); };
+    }
+  }
+
+  explicit operator bool() const { return static_cast<bool>(registration_); }
+  RadarRegistration& registration() const { return *registration_; }
+  const RadarRegistration::Ptr& registrationPtr() const { return registration_; }
+
+  /// The grid size: NDT cell size, or ICP's max correspondence distance (m).
+  void setGrid(double grid) const { set_grid_(grid); }
+  /// Sets the power shift s of eq. (1)-(2), in the cells and, when `shift_source` (the paper), in
+  /// the matching weights; false (nothing changed) for a matcher without power weights.
+  bool setPowerShift(float shift, bool shift_source = true) const {
+    if (!set_power_shift_) return false;
+    set_power_shift_(shift, shift_source);
+    return true;
+  }
+  /// How well the last align() fits, larger is better, comparable between aligns of the same
+  /// source and target.
+  double score() const { return score_ ? score_() : -registration_->getFitnessScore(); }
+  /// Ours only: the last align()'s NDT score per source point, comparable between scans of one
+  /// sequence (a scan that fits its target nowhere, e.g. all noise, scores a fraction of the
+  /// usual); NaN for other matchers.
+  double fitPerPoint() const { return fit_per_point_ ? fit_per_point_() : std::numeric_limits<double>::quiet_NaN(); }
+
+ private:
+  RadarRegistration::Ptr registration_;
+  std::function<void(double)> set_grid_;
+  std::function<void(float, bool)> set_power_shift_;
+  std::function<double()> score_;
+  std::function<double()> fit_per_point_;
+};
+
+/// The settings each method is built with (the grid comes from the odometry's options).
+struct MatcherOptions {
+  Method method = Method::PwNdt;
+  /// Ours (pw-ndt, rapp-ndt): the matcher's settings, except the grid and the power shift, which
+  /// the odometry sets from its own options. Probabilistic cells (Hong & Lee 2017) include their
+  /// points' own covariances, so one detection defines a usable Gaussian: sparse automotive
+  /// submaps would lose most cells to WeightedNDT2D's default minimum of 3.
+  WeightedNDT2DSettings ours = defaultOurs();
+  int ours_max_iterations = 30;
+  /// PCL's NDT as compared wherever it is (applyPclNdtSettings): Newton step 0.5, ε 1e-4, at
+  /// most 50 iterations; PCL's ICP: at most 50 iterations, ε 1e-8, Euclidean fitness ε 1e-8.
+  int icp_max_iterations = 50;
+  double icp_transformation_epsilon = 1e-8;
+  double icp_fitness_epsilon = 1e-8;
+
+  static WeightedNDT2DSettings defaultOurs() {
+    WeightedNDT2DSettings s;
+    s.min_points_per_cell = 1;
+    return s;
+  }
+  /// Throws std::invalid_argument naming the setting out of range.
+  void validate() const;
+};
+
+/// A new matcher for `options.method` at grid size `grid` (NDT cell size; ICP: max correspondence
+/// distance), or an empty adapter for Method::Doppler.
+MatcherAdapter makeMatcher(const MatcherOptions& options, double grid);
+/// makeMatcher with the default settings of `method`.
+MatcherAdapter makeMatcher(Method method, double grid);
+
+/// The settings pcl::NormalDistributionsTransform runs with wherever it is compared with ours
+/// (any point type): resolution = grid, step 0.5, ε 1e-4, at most 50 iterations.
 template <typename PclNdt>
 void applyPclNdtSettings(PclNdt& ndt, double grid) {
   ndt.setResolution(static_cast<float>(grid));
@@ -39,23 +160,5 @@ void applyPclNdtSettings(PclNdt& ndt, double grid) {
   ndt.setTransformationEpsilon(1e-4);
   ndt.setMaximumIterations(50);
 }
-
-/// Sets the grid size of a matcher made by makeMatcher (used by the failure retries).
-void setMatcherGrid(RadarRegistration& matcher, double grid);
-
-/// How well the last align() fits, larger is better, comparable between aligns of the same
-/// source and target: ours: the NDT score; PCL's NDT: its transformation probability; ICP: minus
-/// its fitness score (mean squared nearest-neighbour distance).
-double matchScore(RadarRegistration& matcher);
-
-/// Ours only: the last align()'s NDT score per source point, comparable between scans of one
-/// sequence (a scan that fits its target nowhere, e.g. all noise, scores a fraction of the usual).
-/// NaN for other matchers.
-double matchFitPerPoint(RadarRegistration& matcher);
-
-/// Sets the power shift s of eq. (1)-(2) when the matcher is ours, in the cells and, when
-/// shift_source (the paper), in the matching weights too; false (nothing changed) for matchers
-/// without power weights (PCL's NDT and ICP).
-bool setMatcherPowerShift(RadarRegistration& matcher, float shift, bool shift_source = true);
 
 }  // namespace radar_ndt

@@ -7,30 +7,30 @@
 #include <string>
 #include <vector>
 
-#include "radar_ndt/evaluation/report.h"
+#include "radar_ndt/frontend/radar_cycle.h"
 #include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/odometry/automotive_odometry.h"
 #include "radar_ndt/odometry/matcher.h"
 #include "radar_ndt/pipeline/nuscenes_sequence.h"
-#include "radar_ndt/odometry/odometry.h"
-#include "radar_ndt/frontend/radar_cycle.h"
+#include "radar_ndt/pipeline/stage_times.h"
 
 namespace radar_ndt {
 
 struct AutomotiveRunOptions {
-  Method method = Method::PwNdt;
-  NuScenesRadarSequence::Options sequence;
-  AutomotiveFrontEnd::Options front_end;
-  OdometryOptions odometry;
+  MatcherOptions matcher;  ///< ours with the 2x2-neighbour cell lookup
+  NuScenesSequenceOptions sequence;
+  AutomotiveFrontEndOptions front_end;
+  AutomotiveOdometryOptions odometry;
   std::size_t max_cycles = 0;  ///< 0: all
-};
-
-struct StageTimes {
-  double read_ms = 0, front_end_ms = 0, submap_ms = 0, match_ms = 0;
-  double total() const { return read_ms + front_end_ms + submap_ms + match_ms; }
+  /// Throws std::invalid_argument naming the first setting out of range.
+  void validate() const;
 };
 
 struct AutomotiveRunResult {
   std::string scene;
+  Method method = Method::PwNdt;
+  std::size_t submap_size = 0;  ///< N
   std::string reference_channel;
   double period_s = 0;
   Trajectory estimate;

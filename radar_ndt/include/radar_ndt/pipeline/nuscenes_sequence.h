@@ -13,18 +13,21 @@
 
 namespace radar_ndt {
 
+struct NuScenesSequenceOptions {
+  NuScenesRadarFilter filter;
+  /// Channel that clocks the cycles; empty: the radar mounted closest to straight ahead.
+  std::string reference_channel;
+  /// Radar channels used (names from sensor.json); empty: every radar channel. A car with one
+  /// radar is one channel (its ego-velocity then takes the nonholonomic model, EgoVelocityModel).
+  std::vector<std::string> channels;
+  /// Throws std::invalid_argument naming the setting out of range.
+  void validate() const;
+};
+
 class NuScenesRadarSequence {
  public:
-  struct Options {
-    NuScenesRadarFilter filter;
-    /// Channel that clocks the cycles; empty: the radar mounted closest to straight ahead.
-    std::string reference_channel;
-    /// Radar channels used (names from sensor.json); empty: every radar channel. A car with one
-    /// radar is one channel (its ego-velocity then takes the nonholonomic model, EgoVelocityModel).
-    std::vector<std::string> channels;
-  };
 
-  NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene, const Options& options);
+  NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene, const NuScenesSequenceOptions& options = {});
 
   const std::string& sceneName() const { return scene_name_; }
   const std::string& referenceChannel() const { return reference_channel_; }
@@ -47,7 +50,7 @@ class NuScenesRadarSequence {
   std::string scene_name_;
   std::string reference_channel_;
   double period_s_ = 0;
-  Options options_;
+  NuScenesSequenceOptions options_;
   std::vector<NuScenesSweep> sweeps_;
   std::vector<CyclePlan> plans_;
 };

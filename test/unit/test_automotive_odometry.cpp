@@ -1,4 +1,4 @@
-// Odometry::add (the automotive pipeline's odometry): failure handling on a constructed bad
+// AutomotiveOdometry::add: failure handling on a constructed bad
 // matcher, dead reckoning, skipped timestamps and stale ego-velocities.
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "radar_ndt/pipeline/automotive_run.h"
-#include "radar_ndt/odometry/odometry.h"
+#include "radar_ndt/odometry/automotive_odometry.h"
 #include "radar_ndt/se2.h"
 
 using namespace radar_ndt;
@@ -47,10 +47,10 @@ ProcessedCycle constantCycle(std::int64_t t_us, const Eigen::Vector3d& v) {
 
 }  // namespace
 
-TEST(Odometry, ImplausibleMatchesAreRetriedThenFallBackToDoppler) {
+TEST(AutomotiveOdometry, ImplausibleMatchesAreRetriedThenFallBackToDoppler) {
   auto matcher = pcl::make_shared<JumpingMatcher>();
-  OdometryOptions o;
-  Odometry odo(o, matcher);
+  AutomotiveOdometryOptions o;
+  AutomotiveOdometry odo(o, matcher);
   const Eigen::Vector3d v(10.0, 0.0, 0.0);
   for (int k = 0; k < 5; ++k) odo.add(constantCycle(k * 75000, v));
   EXPECT_EQ(odo.counters().fallbacks, 4u);
@@ -60,15 +60,15 @@ TEST(Odometry, ImplausibleMatchesAreRetriedThenFallBackToDoppler) {
   EXPECT_NEAR(last.pose.x(), 4 * 0.75, 1e-9);  // the Doppler integral, not the jumps
   EXPECT_NEAR(last.pose.y(), 0.0, 1e-9);
   // Without the gate the jumps are accepted (what plain submap matching does).
-  o.gate = false;
-  Odometry ungated(o, pcl::make_shared<JumpingMatcher>());
+  o.gate.enabled = false;
+  AutomotiveOdometry ungated(o, pcl::make_shared<JumpingMatcher>());
   for (int k = 0; k < 5; ++k) ungated.add(constantCycle(k * 75000, v));
   EXPECT_EQ(ungated.counters().fallbacks, 0u);
   EXPECT_NEAR(ungated.steps().back().pose.y(), 8.0, 1e-4);
 }
 
-TEST(Odometry, DopplerDeadReckoningAndSkippedDuplicateTimestamps) {
-  Odometry odo(OdometryOptions{}, nullptr);
+TEST(AutomotiveOdometry, DopplerDeadReckoningAndSkippedDuplicateTimestamps) {
+  AutomotiveOdometry odo(AutomotiveOdometryOptions{}, nullptr);
   const Eigen::Vector3d v(5.0, 0.0, 0.1);
   odo.add(constantCycle(0, v));
   odo.add(constantCycle(100000, v));
@@ -80,8 +80,8 @@ TEST(Odometry, DopplerDeadReckoningAndSkippedDuplicateTimestamps) {
   EXPECT_TRUE(odo.steps().back().pose.isApprox(expected, 1e-9));
 }
 
-TEST(Odometry, InvalidVelocityReusesTheLastOne) {
-  Odometry odo(OdometryOptions{}, nullptr);
+TEST(AutomotiveOdometry, InvalidVelocityReusesTheLastOne) {
+  AutomotiveOdometry odo(AutomotiveOdometryOptions{}, nullptr);
   odo.add(constantCycle(0, Eigen::Vector3d(5, 0, 0)));
   ProcessedCycle bad = constantCycle(100000, Eigen::Vector3d(50, 0, 0));
   bad.ego.valid = false;

@@ -1,0 +1,28 @@
+#pragma once
+// Motion-distortion compensation (beyond the paper): a scanning radar's sweep takes a quarter of
+// a second, so each point is moved from the vehicle pose at its azimuth's time to the pose at the
+// scan's reference time.
+
+#include <pcl/point_cloud.h>
+
+#include "radar_ndt/point_types.h"
+#include "radar_ndt/se2.h"
+
+namespace radar_ndt {
+
+struct MotionCompensationOptions {
+  bool enabled = true;
+  int max_rounds = 2;  ///< matches per attempt at most (the velocity re-estimated between them)
+  /// m/s (yaw rate: × 10 m): another round only when the match moved the velocity by more. A
+  /// single match's velocity noise is about 0.1 m/s; re-matching within it only chases noise.
+  double tolerance = 0.25;
+  void validate() const;
+};
+
+/// Each point moved from the vehicle pose at its time_offset τ to the pose at τ = 0, assuming the
+/// constant body-frame velocity (vx, vy, ω) in m/s and rad/s; covariances are rotated with it and
+/// time offsets set to 0. Points without a finite time offset are left as they are. Throws
+/// std::invalid_argument when the offsets span more than 10 s.
+void compensateMotion(const pcl::PointCloud<PointRadar>& in, const Pose2& velocity, pcl::PointCloud<PointRadar>& out);
+
+}  // namespace radar_ndt

@@ -1,0 +1,86 @@
+#pragma once
+// What both odometries record per cycle or scan (OdometryStep), their counters, and the step log
+// they share: skipped and bridged steps, the last processed step, the trajectory.
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/odometry/motion_model.h"
+#include "radar_ndt/se2.h"
+
+namespace radar_ndt {
+
+enum class StepStatus {
+  First,         ///< the first cycle: identity
+  Matched,       ///< the match passed the checks at the nominal grid
+  Retried,       ///< passed after the grid was enlarged
+  Fallback,      ///< every attempt failed: ego-velocity integral (scanning: constant velocity)
+  DeadReckoned,  ///< no matcher (Method::Doppler), or too few points to match (scanning: constant velocity)
+  Skipped,       ///< timestamp not after the previous cycle's: no pose
+  Bridged,       ///< the scan or cycle could not be read (bridge()): pose from the motion model, not matched
+};
+const char* toString(StepStatus s);
+
+struct OdometryStep {
+  std::int64_t timestamp_us = 0;
+  Pose2 pose = Pose2::Zero();    ///< vehicle at this cycle in the first cycle's frame
+  Pose2 motion = Pose2::Zero();  ///< this cycle in the previous one
+  Pose2 doppler_motion = Pose2::Zero();  ///< the initial guess: ego-velocity integral (scanning: constant velocity)
+  StepStatus status = StepStatus::First;
+  int attempts = 0;
+  double grid = 0;
+  double match_ms = 0;
+  std::size_t source_points = 0, target_points = 0;
+  // Automotive only:
+  double chi2 = 0;             ///< of the accepted (or last) match against the Doppler motion
+  double submap_ms = 0;
+  bool velocity_valid = true;  ///< the cycle had its own ego-velocity (not the last one reused)
+  // Scanning only:
+  float power_shift = 0;         ///< s of the accepted (or last) attempt
+  int compensation_rounds = 0;   ///< matches run with motion-compensated points, all attempts
+  bool slow = false;             ///< the slow-speed grid was used
+};
+
+struct OdometryCounters {
+  std::size_t cycles = 0, matched = 0, retried = 0, fallbacks = 0, dead_reckoned = 0, skipped = 0, bridged = 0;
+  // Automotive only:
+  std::size_t stale_velocity = 0;  ///< cycles without their own ego-velocity
+  // Scanning only:
+  std::size_t shift_halved = 0;   ///< steps whose accepted match (or fallback) needed s halved
+  std::size_t slow = 0;           ///< steps matched at the slow-speed grid
+  std::size_t not_converged = 0;  ///< attempts that did not converge
+  std::size_t rejected = 0;       ///< converged attempts rejected by the motion prior
+  std::size_t poor_fit = 0;       ///< converged attempts rejected for a fit far below recent matches
+};
+
+/// The steps of one run and their counters.
+class StepLog {
+ public:
+  /// A new step at `timestamp_us`, counted as a cycle (not yet recorded).
+  OdometryStep begin(std::int64_t timestamp_us);
+  /// The last step that was processed: neither skipped nor bridged (nullptr before the first).
+  const OdometryStep* previous() const;
+  /// Records `step` (its status counted by the caller) and returns the stored copy.
+  const OdometryStep& add(const OdometryStep& step);
+  /// Records `step` as skipped: its timestamp does not advance past `prev`'s.
+  const OdometryStep& addSkipped(OdometryStep step, const OdometryStep& prev);
+  /// A scan or cycle at `timestamp_us` that could not be read: a Bridged step whose pose continues
+  /// the last step by `model`'s prediction. Before the first step, or at a timestamp not after
+  /// the last one, the step is Skipped (no pose).
+  const OdometryStep& bridge(std::int64_t timestamp_us, const ConstantVelocityModel& model);
+
+  const std::vector<OdometryStep>& steps() const { return steps_; }
+  const OdometryCounters& counters() const { return counters_; }
+  OdometryCounters& counters() { return counters_; }
+  /// Poses of all non-skipped steps (bridged ones included), stamps in seconds.
+  Trajectory trajectory() const;
+
+ private:
+  std::vector<OdometryStep> steps_;
+  OdometryCounters counters_;
+};
+
+}  // namespace radar_ndt

@@ -1,0 +1,132 @@
+#pragma once
+// radar_ndt::ScanningOdometry: the paper's scanning pipeline after the front-end (Sec. III-E,
+// IV-A, Oxford). Each thresholded scan is matched from a constant-velocity guess; a match that
+// does not converge or that the motion gate refuses (an acceleration above 8 m/s²) is retried
+// with the grid enlarged by 2.5 m, and once the grid exceeds 12.5 m, with the power shift s halved
+// (a bus or truck filling the view); if nothing passes the scan keeps the constant-velocity
+// motion. Below 1.5 km/h the grid is 1.5 m. Beyond the paper: each scan is matched to a keyframe
+// (KeyframePolicy), points are moved to the scan's reference time (motion compensation, iterated
+// with the match), and a match that fits far worse than recent ones is refused (FitHistory).
+
+#include <cstdint>
+#include <vector>
+
+#include <pcl/point_cloud.h>
+
+#include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/odometry/fit_history.h"
+#include "radar_ndt/odometry/keyframe_policy.h"
+#include "radar_ndt/odometry/matcher.h"
+#include "radar_ndt/odometry/motion_compensation.h"
+#include "radar_ndt/odometry/motion_gate.h"
+#include "radar_ndt/odometry/motion_model.h"
+#include "radar_ndt/odometry/odometry_step.h"
+#include "radar_ndt/point_types.h"
+#include "radar_ndt/se2.h"
+
+namespace radar_ndt {
+
+/// The scanning pipeline's settings, the paper's Oxford values by default.
+struct ScanningOdometryOptions {
+  double grid = 3.75;             ///< g (m)
+  double grid_step = 2.5;         ///< added to g after each failed attempt
+  double max_grid = 12.5;         ///< once an attempt above this grid fails, s is halved
+  float power_shift = 0.333f;     ///< s of eq. (1)-(2) (ours only; PCL's matchers ignore power)
+  /// false: s shifts the cells' weights (eq. 1) only, the matching weights are p·exp(−½(σx + σy))
+  /// (an ablation; the paper shifts both).
+  bool shift_source_weights = true;
+  int max_shift_halvings = 1;     ///< grid ladders tried with a halved s before falling back
+  double slow_speed = 1.5 / 3.6;  ///< m/s: below this estimated speed the grid is slow_grid
+  double slow_grid = 1.5;         ///< m
+  ScanningMotionGateOptions gate;
+  MotionCompensationOptions compensation;
+  std::size_t min_points = 30;    ///< fewer points in either scan: constant velocity
+  /// The second scan has no velocity to extrapolate: it is matched from each of these forward
+  /// displacements (m) and the best-scoring result is its guess. Empty: from zero motion.
+  std::vector<double> start_hypotheses{0.0, 1.5, 3.0, 4.5, 6.0, -1.5};
+  KeyframeOptions keyframes;
+  /// Judged at the nominal grid and power shift (ours only). A candidate found by the retry ladder
+  /// is refined at the nominal settings and judged there.
+  FitCheckOptions fit;
+  /// Throws std::invalid_argument naming the first setting out of range.
+  void validate() const;
+};
+
+/// One thresholded scan: points in the vehicle frame, each with its time_offset (s) from
+/// `timestamp_us`, the scan's reference time (the pose is the vehicle's at that time).
+struct ScanFrame {
+  std::int64_t timestamp_us = 0;
+  pcl::PointCloud<PointRadar>::ConstPtr cloud;
+};
+
+class ScanningOdometry {
+ public:
+  /// An empty `matcher`: constant velocity throughout. Validates `options`.
+  ScanningOdometry(const ScanningOdometryOptions& options, MatcherAdapter matcher);
+
+  /// Adds a thresholded scan (planar, in the vehicle frame at its reference time).
+  const OdometryStep& addScan(const ScanFrame& scan);
+  /// A scan at `timestamp_us` that could not be read (corrupt or missing file): a Bridged step
+  /// whose pose continues the last step at its velocity. Matching state is untouched, so the next
+  /// scan is matched against the keyframe across the gap.
+  const OdometryStep& bridge(std::int64_t timestamp_us) { return log_.bridge(timestamp_us, motion_model_); }
+
+  const std::vector<OdometryStep>& steps() const { return log_.steps(); }
+  const OdometryCounters& counters() const { return log_.counters(); }
+  const ScanningOdometryOptions& options() const { return options_; }
+  /// Poses of all non-skipped steps (bridged ones included), stamps in seconds.
+  Trajectory trajectory() const { return log_.trajectory(); }
+  /// What the next scan is matched against: the keyframe at its reference time (motion-compensated
+  /// with its estimated velocity when compensation is on).
+  pcl::PointCloud<PointRadar>::ConstPtr keyframeCloud() const { return target_; }
+
+ private:
+  /// What one step's attempts share.
+  struct Attempt {
+    const pcl::PointCloud<PointRadar>* raw;  ///< the scan as given
+    Pose2 prev_in_keyframe;                  ///< the previous scan's pose in the keyframe's frame
+    bool target_is_previous;                 ///< the keyframe is the previous scan
+    double dt, mid_time;                     ///< the interval (s) and its middle (s)
+  };
+
+  const OdometryStep& addFirstScan(const ScanFrame& scan, OdometryStep& step);
+  /// Matching with the paper's failure handling: the accepted motion, or the guess (step's status,
+  /// attempts, grid and power shift set).
+  Pose2 matchWithFailureHandling(const ScanFrame& scan, const OdometryStep& prev, double dt, OdometryStep& step);
+  /// The nominal grid (or the slow one) and power shift, then the keyframe as the target.
+  void prepareMatcher(double grid);
+  void setGrid(double grid);
+  bool setPowerShift(float shift);
+  /// The second scan: the best-scoring match from each start hypothesis (the guess otherwise).
+  Pose2 bestStartHypothesis(const ScanFrame& scan, const Pose2& guess);
+  /// The grid ladder, then with s halved; a candidate off the nominal settings is refined there,
+  /// and judged matches must fit as well as recent ones. True with `*motion` set when one passed.
+  bool runRetryLadder(const Attempt& a, const Pose2& guess, double nominal_grid, OdometryStep& step, Pose2* motion);
+  /// One attempt at the current matcher settings: match (≤ compensation rounds), then the gate.
+  bool attempt(const Attempt& a, const Pose2& from, OdometryStep& step, Pose2* estimate);
+  /// Match, re-compensate, match again (≤ rounds) from `guess` (the motion from the previous scan).
+  bool matchScan(const Attempt& a, const Pose2& guess, Pose2* estimate, int* rounds);
+  /// The scan as the next target, or the first scan compensated once a velocity is known.
+  void updateKeyframe(const ScanFrame& scan, const OdometryStep& step, double dt);
+
+  ScanningOdometryOptions options_;
+  MatcherAdapter matcher_;
+  ScanningMotionGate gate_;
+  KeyframePolicy keyframes_;
+  FitHistory fits_;
+  ConstantVelocityModel motion_model_;
+  StepLog log_;
+  // The matcher's current grid and shift (so each is set once before a new target); shift < 0: not
+  // set (the matcher has no power weights).
+  double matcher_grid_ = 0;
+  float matcher_shift_ = -1;
+  pcl::PointCloud<PointRadar>::Ptr target_;             ///< the keyframe at its reference time
+  pcl::PointCloud<PointRadar>::ConstPtr previous_raw_;  ///< the keyframe as given, to re-compensate
+  pcl::PointCloud<PointRadar>::Ptr compensated_;        ///< scratch: the source of the last attempt
+  pcl::PointCloud<PointRadar> aligned_;  ///< scratch: the matcher's output (unused; kept to reuse its memory)
+  bool target_replaced_ = false;       ///< the matcher holds a re-compensated copy of target_
+  bool matcher_holds_target_ = false;  ///< the matcher's target (and model) is target_ as it is
+  bool target_compensated_ = false;    ///< target_ was moved to its reference time (not the first scan)
+};
+
+}  // namespace radar_ndt

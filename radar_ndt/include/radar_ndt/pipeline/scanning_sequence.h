@@ -1,0 +1,67 @@
+#pragma once
+// A scanning-radar sequence directory: its index of scans, their files and, for Oxford, the
+// dataset's ground truth.
+//
+// Layouts:
+//  - oxford: DIR/radar.timestamps, DIR/radar/<stamp>.png (Oxford Radar RobotCar; what radar_sim
+//    writes), optional ground truth DIR/gt/radar_odometry.csv (Oxford axes, converted here);
+//  - radiate: DIR/Navtech_Polar.txt and DIR/Navtech_Polar/<frame, 6 digits>.png (RADIATE), no
+//    ground truth.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/io/trajectory_io.h"
+
+namespace radar_ndt {
+
+enum class ScanFormat { Oxford, Radiate };
+/// "oxford" or "radiate"; throws std::invalid_argument otherwise.
+ScanFormat parseScanFormat(const std::string& name);
+const char* toString(ScanFormat format);
+
+struct ScanningSequenceOptions {
+  OxfordPolarOptions oxford;
+  RadiatePolarOptions radiate;
+  /// Throws std::invalid_argument naming the setting out of range (bin sizes, expected widths).
+  void validate() const;
+};
+
+/// The scans of one sequence directory, in time order.
+class ScanningSequence {
+ public:
+  /// Reads the index (timestamps, frame list) and, for oxford, the ground truth when present.
+  /// Throws IoError naming the file when the index is missing or lists no scan; bad index lines
+  /// (unparsable, duplicated or out-of-order timestamps) are left out and listed in indexProblems().
+  ScanningSequence(const std::string& dir, ScanFormat format, const ScanningSequenceOptions& options = {});
+
+  std::size_t size() const { return stamps_.size(); }
+  std::int64_t stamp(std::size_t k) const { return stamps_[k]; }
+  const std::string& path(std::size_t k) const { return paths_[k]; }
+  /// Decodes scan k (throws IoError naming the file).
+  PolarScan load(std::size_t k) const;
+  /// Median interval between scans (s).
+  double periodSeconds() const { return period_s_; }
+  const std::string& name() const { return name_; }
+  ScanFormat format() const { return format_; }
+  bool hasGroundTruth() const { return !ground_truth_.empty(); }
+  /// SE(2) ground truth in the vehicle frame (x forward, y left), seconds; the first pose is the
+  /// first scan the ground truth covers. Empty when the sequence has none.
+  const Trajectory& groundTruth() const { return ground_truth_; }
+  /// Index lines that were left out, each naming the file, the line and the problem.
+  const std::vector<std::string>& indexProblems() const { return index_problems_; }
+
+ private:
+  std::string dir_, name_;
+  ScanFormat format_;
+  ScanningSequenceOptions options_;
+  std::vector<std::int64_t> stamps_;
+  std::vector<std::string> paths_;
+  double period_s_ = 0;
+  Trajectory ground_truth_;
+  std::vector<std::string> index_problems_;
+};
+
+}  // namespace radar_ndt

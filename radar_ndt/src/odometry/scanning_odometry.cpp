@@ -1,0 +1,285 @@
+#include "radar_ndt/odometry/scanning_odometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "detail/run_timing.h"
+
+namespace radar_ndt {
+
+using detail::msSince;
+
+void ScanningOdometryOptions::validate() const {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("ScanningOdometryOptions: " + what); };
+  if (!(grid > 0) || !std::isfinite(grid)) fail("grid must be > 0, got " + std::to_string(grid));
+  if (!(grid_step > 0) || !std::isfinite(grid_step)) fail("grid_step must be > 0");
+  if (!(max_grid >= 0) || !std::isfinite(max_grid)) fail("max_grid must be >= 0 and finite");
+  if (!(power_shift >= 0.0f && power_shift < 1.0f)) fail("power_shift must be in [0, 1), got " + std::to_string(power_shift));
+  if (max_shift_halvings < 0) fail("max_shift_halvings must be >= 0");
+  if (!(slow_speed >= 0)) fail("slow_speed must be >= 0");
+  if (!(slow_grid > 0) || !std::isfinite(slow_grid)) fail("slow_grid must be > 0");
+  for (const double h : start_hypotheses)
+    if (!std::isfinite(h)) fail("start_hypotheses must be finite");
+  gate.validate();
+  compensation.validate();
+  keyframes.validate();
+  fit.validate();
+}
+
+ScanningOdometry::ScanningOdometry(const ScanningOdometryOptions& options, MatcherAdapter matcher)
+    : options_(options), matcher_(std::move(matcher)), gate_(options.gate), keyframes_(options.keyframes), fits_(options.fit),
+      compensated_(new pcl::PointCloud<PointRadar>) {
+  options_.validate();
+}
+
+const OdometryStep& ScanningOdometry::addScan(const ScanFrame& scan) {
+  if (!scan.cloud) throw std::invalid_argument("ScanningOdometry::addScan: the scan has no cloud");
+  OdometryStep step = log_.begin(scan.timestamp_us);
+  const OdometryStep* prev = log_.previous();
+  if (prev && scan.timestamp_us <= prev->timestamp_us) return log_.addSkipped(step, *prev);
+  step.source_points = scan.cloud->size();
+  if (!prev) return addFirstScan(scan, step);
+
+  const double dt = 1e-6 * static_cast<double>(scan.timestamp_us - prev->timestamp_us);
+  step.doppler_motion = motion_model_.predict(dt);  // constant velocity
+  step.target_points = target_ ? target_->size() : 0;
+  Pose2 motion = step.doppler_motion;
+  const auto t0 = detail::Clock::now();
+  if (!matcher_ || step.source_points < options_.min_points || step.target_points < options_.min_points) {
+    step.status = StepStatus::DeadReckoned;
+    ++log_.counters().dead_reckoned;
+  } else {
+    motion = matchWithFailureHandling(scan, *prev, dt, step);
+  }
+  step.match_ms = msSince(t0);
+  step.motion = motion;
+  step.pose = compose(prev->pose, motion);
+  motion_model_.update(motion, dt);
+  updateKeyframe(scan, step, dt);
+  return log_.add(step);
+}
+
+const OdometryStep& ScanningOdometry::addFirstScan(const ScanFrame& scan, OdometryStep& step) {
+  // The first scan: identity. Its velocity is unknown, so it is kept uncompensated (its time
+  // offsets are short against any later correction) and becomes the first target.
+  step.status = StepStatus::First;
+  keyframes_.reset(Pose2::Zero(), scan.timestamp_us);
+  previous_raw_ = scan.cloud;
+  target_compensated_ = false;
+  target_.reset(new pcl::PointCloud<PointRadar>(*scan.cloud));
+  matcher_holds_target_ = false;
+  for (auto& p : *target_) p.time_offset = 0.f;
+  return log_.add(step);
+}
+
+Pose2 ScanningOdometry::matchWithFailureHandling(const ScanFrame& scan, const OdometryStep& prev, double dt, OdometryStep& step) {
+  const ScanningOdometryOptions& o = options_;
+  // Nominal settings for this step, then the new target: one model build (settings are lazy).
+  step.slow = motion_model_.hasVelocity() && motion_model_.velocity().head<2>().norm() < o.slow_speed;
+  const double g0 = step.slow ? o.slow_grid : o.grid;
+  prepareMatcher(g0);
+  Attempt a;
+  a.raw = scan.cloud.get();
+  a.target_is_previous = keyframes_.stamp() == prev.timestamp_us;
+  a.prev_in_keyframe = a.target_is_previous ? Pose2::Zero() : between(keyframes_.pose(), prev.pose);
+  a.dt = dt;
+  a.mid_time = 1e-6 * static_cast<double>(prev.timestamp_us) + 0.5 * dt;
+  Pose2 guess = step.doppler_motion;
+  if (!motion_model_.hasVelocity() && !o.start_hypotheses.empty()) step.doppler_motion = guess = bestStartHypothesis(scan, guess);
+
+  Pose2 motion;
+  const bool ok = runRetryLadder(a, guess, g0, step, &motion);
+  OdometryCounters& counters = log_.counters();
+  if (ok) {
+    gate_.trust(motion, dt, a.mid_time);
+    step.status = step.attempts == 1 ? StepStatus::Matched : StepStatus::Retried;
+    ++(step.status == StepStatus::Matched ? counters.matched : counters.retried);
+    if (step.slow) ++counters.slow;
+  } else {
+    step.status = StepStatus::Fallback;
+    ++counters.fallbacks;
+    motion = guess;
+  }
+  if (matcher_shift_ >= 0 && matcher_shift_ != o.power_shift) ++counters.shift_halved;
+  return motion;
+}
+
+void ScanningOdometry::setGrid(double grid) {
+  matcher_.setGrid(matcher_grid_ = grid);
+}
+
+bool ScanningOdometry::setPowerShift(float shift) {
+  if (!matcher_.setPowerShift(shift, options_.shift_source_weights)) return false;  // no power weights
+  matcher_shift_ = shift;
+  return true;
+}
+
+void ScanningOdometry::prepareMatcher(double grid) {
+  if (matcher_grid_ != grid) setGrid(grid);
+  if (matcher_shift_ != options_.power_shift) setPowerShift(options_.power_shift);
+  // The target model is built once per keyframe, not once per scan: while the keyframe is kept
+  // the matcher still holds it (unless an attempt swapped in a re-compensated copy).
+  if (!matcher_holds_target_ || target_replaced_) matcher_.registration().setInputTarget(target_);
+  matcher_holds_target_ = true;
+  target_replaced_ = false;
+}
+
+Pose2 ScanningOdometry::bestStartHypothesis(const ScanFrame& scan, const Pose2& guess) {
+  // No velocity yet (the second scan): zero motion may be metres off, and sensor-fixed returns
+  // pull a match towards it. Start from each forward offset hypothesis and keep the best-scoring
+  // result as the guess.
+  RadarRegistration& matcher = matcher_.registration();
+  Pose2 best_guess = guess;
+  double best = -std::numeric_limits<double>::infinity();
+  matcher.setInputSource(scan.cloud);
+  for (const double h : options_.start_hypotheses) {
+    matcher.align(aligned_, toMatrix4<float>(Pose2(h, 0, 0)));
+    if (!matcher.hasConverged()) continue;
+    const Pose2 e = toPose2(matcher.getFinalTransformation());
+    const double score = matcher_.score();
+    if (e.allFinite() && score > best) {
+      best = score;
+      best_guess = e;
+    }
+  }
+  return best_guess;
+}
+
+bool ScanningOdometry::runRetryLadder(const Attempt& a, const Pose2& guess, double nominal_grid, OdometryStep& step,
+                                      Pose2* motion) {
+  const ScanningOdometryOptions& o = options_;
+  for (int halving = 0; halving <= o.max_shift_halvings; ++halving) {
+    if (halving > 0 && !setPowerShift(o.power_shift * std::pow(0.5f, static_cast<float>(halving))))
+      return false;  // no power weights: nothing to halve
+    for (double g = nominal_grid;; g += o.grid_step) {
+      if (matcher_grid_ != g) setGrid(g);
+      ++step.attempts;
+      step.grid = g;
+      step.power_shift = matcher_shift_ < 0 ? 0.f : matcher_shift_;
+      // The fit is judged at the nominal settings only (scores grow with the grid and with the
+      // power shift): a scan that fits its target nowhere there is not retried, bigger cells
+      // would only blur it in. Slow steps (their own small grid) are not judged.
+      const bool nominal = halving == 0 && g == o.grid;
+      Pose2 estimate;
+      if (attempt(a, guess, step, &estimate)) {
+        double fit = matcher_.fitPerPoint();  // NaN: not ours, nothing to judge
+        if (!nominal && !step.slow && std::isfinite(fit)) {
+          // A retried candidate is where the ladder found something the motion prior allows after
+          // the nominal match was refused, which is weak evidence: a bus passing alongside gives
+          // one at some grid or power shift, usually wrong by decimetres and with a yaw error the
+          // fallbacks after it carry on. It is refined at the nominal settings, where its fit can
+          // be judged against recent matches, and the refined match must pass both checks;
+          // otherwise the step falls back.
+          setGrid(o.grid);
+          setPowerShift(o.power_shift);
+          ++step.attempts;
+          const Pose2 candidate = estimate;
+          if (!attempt(a, candidate, step, &estimate)) return false;
+          fit = matcher_.fitPerPoint();
+        }
+        if ((nominal || !step.slow) && std::isfinite(fit)) {
+          // Judged before it enters the history (FitHistory: refused fits enter it too).
+          const bool fits = fits_.accepts(fit);
+          fits_.add(fit);
+          if (!fits) {
+            ++log_.counters().poor_fit;
+            return false;
+          }
+        }
+        *motion = estimate;
+        return true;
+      }
+      if (g > o.max_grid) break;
+    }
+  }
+  return false;
+}
+
+bool ScanningOdometry::attempt(const Attempt& a, const Pose2& from, OdometryStep& step, Pose2* estimate) {
+  if (!matchScan(a, from, estimate, &step.compensation_rounds)) {
+    ++log_.counters().not_converged;
+    return false;
+  }
+  if (!gate_.accept(*estimate, a.dt, a.mid_time)) {
+    ++log_.counters().rejected;
+    return false;
+  }
+  return true;
+}
+
+bool ScanningOdometry::matchScan(const Attempt& a, const Pose2& guess, Pose2* estimate, int* rounds) {
+  const MotionCompensationOptions& c = options_.compensation;
+  RadarRegistration& matcher = matcher_.registration();
+  const bool compensate = c.enabled && a.dt > 0;
+  const int max_rounds = compensate ? std::max(1, c.max_rounds) : 1;
+  Pose2 est = guess;  // the motion from the previous scan
+  Eigen::Vector3d v = compensate ? velocityOf(guess, a.dt) : Eigen::Vector3d::Zero();
+  if (target_replaced_) {  // a previous attempt's re-compensated target: back to this step's own
+    matcher.setInputTarget(target_);
+    target_replaced_ = false;
+  }
+  for (int r = 0; r < max_rounds; ++r) {
+    if (compensate) {
+      // Round 0: both scans at the constant-velocity estimate (the target already is). Later
+      // rounds: both at the velocity this match found, which is the target sweep's own velocity
+      // and the best estimate for the source's.
+      // The first target was never compensated (no velocity then): it is, from round 0 on.
+      if ((r > 0 || !target_compensated_) && previous_raw_ && a.target_is_previous) {
+        pcl::PointCloud<PointRadar>::Ptr target(new pcl::PointCloud<PointRadar>);
+        compensateMotion(*previous_raw_, v, *target);
+        matcher.setInputTarget(target);
+        target_replaced_ = true;
+      }
+      compensateMotion(*a.raw, v, *compensated_);
+      matcher.setInputSource(compensated_);
+      ++*rounds;
+    } else {
+      // The caller's cloud is const; the matcher only reads its source.
+      matcher.setInputSource(pcl::PointCloud<PointRadar>::ConstPtr(a.raw, [](const pcl::PointCloud<PointRadar>*) {}));
+    }
+    matcher.align(aligned_, toMatrix4<float>(compose(a.prev_in_keyframe, est)));
+    if (!matcher.hasConverged()) return false;
+    est = between(a.prev_in_keyframe, toPose2(matcher.getFinalTransformation()));
+    if (!est.allFinite()) return false;
+    if (!compensate) break;
+    const Eigen::Vector3d v_new = velocityOf(est, a.dt);
+    // Another round only when the velocity moved by more than the tolerance (yaw rate scaled by
+    // 10 m, a typical point range: the displacement it causes there). Smaller changes are within
+    // a single match's noise and chasing them adds nothing.
+    const bool settled = (v_new.head<2>() - v.head<2>()).norm() < c.tolerance && 10.0 * std::abs(v_new.z() - v.z()) < c.tolerance;
+    v = v_new;
+    if (settled) break;
+  }
+  *estimate = est;
+  return true;
+}
+
+void ScanningOdometry::updateKeyframe(const ScanFrame& scan, const OdometryStep& step, double dt) {
+  // The next target: this scan at its reference time, with the velocity just estimated, unless
+  // the keyframe is kept (KeyframePolicy).
+  const bool matched = step.status == StepStatus::Matched || step.status == StepStatus::Retried;
+  const bool keyframe_usable = target_ && target_->size() >= options_.min_points;
+  const bool compensate = options_.compensation.enabled;
+  if (keyframes_.replaceAfter(matched, step.pose, keyframe_usable)) {
+    keyframes_.reset(step.pose, step.timestamp_us);
+    previous_raw_ = scan.cloud;
+    target_.reset(new pcl::PointCloud<PointRadar>);
+    matcher_holds_target_ = false;
+    if (compensate)
+      compensateMotion(*scan.cloud, velocityOf(step.motion, dt), *target_);
+    else
+      *target_ = *scan.cloud;
+    target_compensated_ = true;
+  } else if (!target_compensated_ && compensate && previous_raw_) {
+    // The kept keyframe is the first scan: compensate it with the first velocity there is.
+    target_.reset(new pcl::PointCloud<PointRadar>);
+    matcher_holds_target_ = false;
+    compensateMotion(*previous_raw_, velocityOf(step.motion, dt), *target_);
+    target_compensated_ = true;
+  }
+}
+
+}  // namespace radar_ndt

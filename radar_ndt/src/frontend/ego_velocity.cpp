@@ -138,6 +138,22 @@ double predictedDoppler(const SensorMounting& m, double px, double py, const Eig
   return modelRow(m, px, py, a) ? a.dot(v) : 0.0;
 }
 
+EgoVelocityModel parseEgoVelocityModel(const std::string& name) {
+  if (name == "auto") return EgoVelocityModel::Auto;
+  if (name == "full") return EgoVelocityModel::Full;
+  if (name == "nonholonomic") return EgoVelocityModel::Nonholonomic;
+  throw std::invalid_argument("unknown ego-velocity model '" + name + "' (auto, full, nonholonomic)");
+}
+
+const char* toString(EgoVelocityModel model) {
+  switch (model) {
+    case EgoVelocityModel::Auto: return "auto";
+    case EgoVelocityModel::Full: return "full";
+    case EgoVelocityModel::Nonholonomic: return "nonholonomic";
+  }
+  return "?";
+}
+
 void EgoVelocityOptions::validate() const {
   auto fail = [](const std::string& what) { throw std::invalid_argument("EgoVelocityOptions: " + what); };
   if (!(inlier_threshold > 0) || !std::isfinite(inlier_threshold))

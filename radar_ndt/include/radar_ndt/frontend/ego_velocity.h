@@ -18,6 +18,7 @@
 // solvable when the radar sits off the rear axle (mx ≠ 0).
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -39,6 +40,10 @@ enum class EgoVelocityModel {
   Full,          ///< (vx, vy, ω) free: needs radars at two or more places (Kellner 2014)
   Nonholonomic,  ///< vy = 0 at the vehicle frame's origin, (vx, ω) fitted (Kellner 2013)
 };
+
+/// "auto", "full" or "nonholonomic"; throws std::invalid_argument otherwise.
+EgoVelocityModel parseEgoVelocityModel(const std::string& name);
+const char* toString(EgoVelocityModel model);
 
 /// Ego-velocity (vx, vy, yaw rate) in the vehicle frame, m/s and rad/s.
 struct EgoVelocity {

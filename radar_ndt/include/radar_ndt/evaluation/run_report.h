@@ -1,0 +1,41 @@
+#pragma once
+// Reports of one odometry run, the same for every app and for library users: one CSV line per
+// step, the run's summary as JSON (with the metrics in radar_eval's shape when evaluated) and as
+// readable text.
+
+#include <string>
+#include <vector>
+
+#include "radar_ndt/evaluation/report.h"
+#include "radar_ndt/pipeline/automotive_run.h"
+#include "radar_ndt/pipeline/scanning_run.h"
+
+namespace radar_ndt {
+
+/// The metrics each pipeline reports when none are asked for: the paper's 1 m metric for the
+/// automotive pipeline, KITTI and frame-to-frame errors for the scanning one.
+inline std::vector<Metric> defaultMetrics(const AutomotiveRunResult&) { return {Metric::OneMeter}; }
+inline std::vector<Metric> defaultMetrics(const ScanningRunResult&) { return {Metric::Kitti, Metric::Frame}; }
+
+/// One CSV line per cycle after a header: timestamp_us, status, attempts, grid, chi2, the matched
+/// motion, the Doppler motion, point counts, velocity_valid and the ground-truth motion.
+std::string stepsCsv(const AutomotiveRunResult& run);
+/// One CSV line per scan after a header: timestamp_us, status, attempts, grid, power_shift,
+/// compensation_rounds, slow, the matched motion, the constant-velocity guess, point counts, match_ms.
+std::string stepsCsv(const ScanningRunResult& run);
+
+/// The run's summary as a JSON object (indented by 2): counts, failure handling, timings, and
+/// with `metrics` a "metrics" entry shaped as metricsJson's.
+std::string summaryJson(const AutomotiveRunResult& run, const EvaluationReport* metrics = nullptr);
+std::string summaryJson(const ScanningRunResult& run, const EvaluationReport* metrics = nullptr);
+
+/// The summary as the apps print it (a few lines), without the metrics table.
+std::string summaryText(const AutomotiveRunResult& run);
+std::string summaryText(const ScanningRunResult& run);
+
+/// Real-time factor of a run: how many times faster than the sensor it processes (one core for
+/// the automotive pipeline; end to end, with the prefetch thread, for the scanning one).
+double realTimeFactor(const AutomotiveRunResult& run);
+double realTimeFactor(const ScanningRunResult& run);
+
+}  // namespace radar_ndt

@@ -115,7 +115,7 @@ int benchNuScenes(const std::string& dataroot, std::size_t stride, bool json) {
       ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       const Pose2 e = between(p.truth, toPose2(reg->getFinalTransformation()));
       et += e.head<2>().norm();
-      er += std::abs(e.z()) * 180.0 / M_PI;
+      er += std::abs(e.z()) * 180.0 / kPi;
     }
     std::nth_element(ms.begin(), ms.begin() + static_cast<std::ptrdiff_t>(ms.size() / 2), ms.end());
     const double n = static_cast<double>(std::max<std::size_t>(pairs.size(), 1));
@@ -168,7 +168,7 @@ int benchScanningFrontEnds(const std::string& dir, bool json) {
         ms_match.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count());
         const Pose2 e = between(truth(k - 1), toPose2(ndt.getFinalTransformation()));
         et += e.head<2>().norm();
-        er += std::abs(e.z()) * 180.0 / M_PI;
+        er += std::abs(e.z()) * 180.0 / kPi;
       }
       previous = cloud;
     }
@@ -324,7 +324,7 @@ int main(int argc, char** argv) {
           times.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
           const Pose2 est = toPose2(reg->getFinalTransformation());
           s.trans_err = (est.head<2>() - pair.source_in_target.head<2>()).norm();
-          s.rot_err_deg = std::abs(normalizeAngle(est.z() - pair.source_in_target.z())) * 180.0 / M_PI;
+          s.rot_err_deg = std::abs(normalizeAngle(est.z() - pair.source_in_target.z())) * 180.0 / kPi;
           s.converged = reg->hasConverged();
           if (k == 1 && r == 0) {
             if (auto* ours = dynamic_cast<WeightedNDT2D<PointT, PointT>*>(reg.get())) {

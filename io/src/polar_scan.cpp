@@ -1,4 +1,5 @@
 #include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/se2.h"
 
 #include <png.h>
 
@@ -28,8 +29,8 @@ constexpr std::size_t kMaxInflation = 1100;  // deflate's limit is 1032:1, plus 
 
 double wrapPi(double a) {
   a = std::fmod(a, kTwoPi);
-  if (a > M_PI) a -= kTwoPi;
-  if (a <= -M_PI) a += kTwoPi;
+  if (a > kPi) a -= kTwoPi;
+  if (a <= -kPi) a += kTwoPi;
   return a;
 }
 

@@ -10,6 +10,7 @@
 
 #include "fuzz_support.h"
 #include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/se2.h"
 
 namespace {
 
@@ -20,7 +21,7 @@ void checkScan(const radar_ndt::PolarScan& s) {
   if (s.power.size() != n * static_cast<std::size_t>(s.bins)) finding("power size != azimuths * bins");
   if (s.angle.size() != n || s.stamp_us.size() != n || s.measured.size() != n) finding("per-azimuth arrays of the wrong size");
   for (std::size_t a = 0; a < n; ++a) {
-    if (!std::isfinite(s.angle[a]) || s.angle[a] <= -M_PI - 1e-9 || s.angle[a] > M_PI + 1e-9) finding("azimuth angle out of (-pi, pi]");
+    if (!std::isfinite(s.angle[a]) || s.angle[a] <= -radar_ndt::kPi - 1e-9 || s.angle[a] > radar_ndt::kPi + 1e-9) finding("azimuth angle out of (-pi, pi]");
     if (a > 0 && s.stamp_us[a] < s.stamp_us[a - 1]) finding("azimuth timestamps go backwards");
   }
   if (!(s.range_resolution > 0.0)) finding("non-positive range resolution");

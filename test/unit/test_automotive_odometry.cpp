@@ -90,3 +90,14 @@ TEST(AutomotiveOdometry, InvalidVelocityReusesTheLastOne) {
   EXPECT_NEAR(odo.steps().back().pose.x(), 0.5, 1e-9);
 }
 
+
+TEST(AutomotiveOdometry, KeepsNoPointerToTheCallersCloud) {
+  // The submap copies each cycle's points: after add() returns, the caller's cloud is its own.
+  AutomotiveOdometry odo(AutomotiveOdometryOptions{}, makeMatcher(Method::PwNdt, 3.0));
+  const Eigen::Vector3d v(10.0, 0.0, 0.0);
+  for (int k = 0; k < 4; ++k) {
+    ProcessedCycle c = constantCycle(k * 75000, v);
+    odo.add(c);
+    EXPECT_EQ(c.cloud.use_count(), 1) << "cycle " << k;
+  }
+}

@@ -19,8 +19,8 @@ using namespace radar_ndt;
 namespace {
 
 std::vector<SensorMounting> nuScenesLikeMountings() {
-  return {{3.41, 0.0, 0.0, true}, {2.42, 0.8, M_PI / 2, true}, {2.42, -0.8, -M_PI / 2, true}, {-0.56, 0.63, M_PI, true},
-          {-0.56, -0.62, -M_PI, true}};
+  return {{3.41, 0.0, 0.0, true}, {2.42, 0.8, kPi / 2, true}, {2.42, -0.8, -kPi / 2, true}, {-0.56, 0.63, kPi, true},
+          {-0.56, -0.62, -kPi, true}};
 }
 
 /// Stationary detections around the car seen with velocity v, plus `movers` detections with a

@@ -209,7 +209,7 @@ TEST(NuScenesDataset, RealTablesScenesChannelsCalibrationsPoses) {
     if (s.channel == "RADAR_FRONT") {
       EXPECT_NEAR(yaw, 0.0, 0.05);
     } else if (s.channel == "RADAR_BACK_LEFT") {
-      EXPECT_NEAR(std::abs(yaw), M_PI, 0.2);
+      EXPECT_NEAR(std::abs(yaw), kPi, 0.2);
     }
   }
   // Ego poses move smoothly: under 1 m between consecutive sweeps of a car at city speed.

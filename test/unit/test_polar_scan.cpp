@@ -94,7 +94,7 @@ PolarScan smallOxfordScan(int azimuths = 400, int bins = 3768) {
   const OxfordPolarOptions o;
   for (int a = 0; a < azimuths; ++a) {
     s.encoder.push_back(static_cast<std::uint16_t>(a * o.encoder_size / azimuths));
-    s.angle.push_back(o.convention.toVehicleAngle(2 * M_PI * s.encoder.back() / o.encoder_size));
+    s.angle.push_back(o.convention.toVehicleAngle(2 * kPi * s.encoder.back() / o.encoder_size));
     s.stamp_us.push_back(1547120000000000 + a * 625);
     s.measured.push_back(a % 50 == 7 ? 0 : 1);
   }
@@ -107,8 +107,8 @@ PolarScan smallOxfordScan(int azimuths = 400, int bins = 3768) {
 TEST(PolarConvention, OxfordAzimuthsTurnClockwiseFromTheFront) {
   const PolarConvention c = OxfordPolarOptions().convention;
   EXPECT_NEAR(c.toVehicleAngle(0.0), 0.0, 1e-12);
-  EXPECT_NEAR(c.toVehicleAngle(M_PI / 2), -M_PI / 2, 1e-12);  // a quarter turn clockwise: the right side (−y)
-  EXPECT_NEAR(std::abs(c.toVehicleAngle(M_PI)), M_PI, 1e-12);
+  EXPECT_NEAR(c.toVehicleAngle(kPi / 2), -kPi / 2, 1e-12);  // a quarter turn clockwise: the right side (−y)
+  EXPECT_NEAR(std::abs(c.toVehicleAngle(kPi)), kPi, 1e-12);
   for (double a : {0.0, 0.3, 2.0, 4.0, 6.0}) EXPECT_NEAR(c.toSensorAzimuth(c.toVehicleAngle(a)), a, 1e-9);
   PolarConvention ccw{0.1, 0.0, 0.5, false};
   EXPECT_NEAR(ccw.toVehicleAngle(0.25), 0.75, 1e-12);
@@ -131,7 +131,7 @@ TEST(RadiatePolar, RealScansHaveTheDatasetLayout) {
   EXPECT_DOUBLE_EQ(s.range_resolution, 0.173611);
   EXPECT_NEAR(s.maxRange(), 575 * 0.173611, 1e-9);
   EXPECT_NEAR(s.angle[0], 0.0, 1e-12);
-  EXPECT_NEAR(s.angle[100], -M_PI / 2, 1e-12);  // clockwise, as every Navtech
+  EXPECT_NEAR(s.angle[100], -kPi / 2, 1e-12);  // clockwise, as every Navtech
   EXPECT_EQ(s.stamp, frames[0].stamp_us);
   EXPECT_EQ(s.stamp_us.front(), frames[0].stamp_us);
   EXPECT_NEAR((s.stamp_us.back() - s.stamp_us.front()) * 1e-6, 0.25 * 399 / 400, 1e-5);
@@ -338,7 +338,7 @@ TEST(OxfordSequence, SimulatedSequenceRoundTrip) {
     EXPECT_EQ(r.stamp_us.front(), stamps[k].stamp);  // Oxford: the stamp marks the sweep's start
     EXPECT_EQ(r.stamp_us[200], stamps[k].stamp + 125000);
     EXPECT_EQ(r.encoder[100], 1400);
-    EXPECT_NEAR(r.angle[100], -M_PI / 2, 1e-12);
+    EXPECT_NEAR(r.angle[100], -kPi / 2, 1e-12);
     // The pixels are what the renderer produced for that frame.
     PolarScan expected;
     sim::renderScan(w, ego, ego.stamps()[seq.start + k], world.seed, k, scanning, expected);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/se2.h"
 #include "radar_ndt/frontend/power_threshold.h"
 
 using namespace radar_ndt;
@@ -23,7 +24,7 @@ PolarScan constructedScan(std::uint8_t floor, const std::vector<std::pair<int, i
   s.power.assign(static_cast<std::size_t>(s.azimuths) * s.bins, floor);
   const PolarConvention c = OxfordPolarOptions().convention;
   for (int a = 0; a < s.azimuths; ++a) {
-    s.angle.push_back(c.toVehicleAngle(2 * M_PI * a / s.azimuths));
+    s.angle.push_back(c.toVehicleAngle(2 * kPi * a / s.azimuths));
     s.stamp_us.push_back(1000000 + a * 625);
   }
   s.measured.assign(s.azimuths, 1);
@@ -47,7 +48,7 @@ TEST(PowerThreshold, PolarPathPutsEachCellAtItsRangeAndAngle) {
   const PointRadar& p = cloud[1];
   const double r = s.rangeOf(b);
   EXPECT_NEAR(std::hypot(p.x, p.y), r, 1e-3);
-  EXPECT_NEAR(std::atan2(p.y, p.x), -M_PI / 4, 1e-6);
+  EXPECT_NEAR(std::atan2(p.y, p.x), -kPi / 4, 1e-6);
   EXPECT_LT(p.y, 0.f);  // right side: −y
   EXPECT_EQ(p.z, 0.f);
   EXPECT_NEAR(p.power, 230.0 / 255.0, 1e-6);
@@ -56,10 +57,10 @@ TEST(PowerThreshold, PolarPathPutsEachCellAtItsRangeAndAngle) {
   Eigen::Matrix2d cov;
   cov << p.cov_xx, p.cov_xy, p.cov_xy, p.cov_yy;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
-  const Eigen::Vector2d radial(std::cos(-M_PI / 4), std::sin(-M_PI / 4));
+  const Eigen::Vector2d radial(std::cos(-kPi / 4), std::sin(-kPi / 4));
   EXPECT_GT(std::abs(es.eigenvectors().col(0).dot(radial)), 0.999);  // smallest axis along the beam
   EXPECT_NEAR(std::sqrt(es.eigenvalues()(0)), 0.0438, 0.01);
-  EXPECT_NEAR(std::sqrt(es.eigenvalues()(1)), r * (2.0 * M_PI / 180.0) / 2.355, 0.02);
+  EXPECT_NEAR(std::sqrt(es.eigenvalues()(1)), r * (2.0 * kPi / 180.0) / 2.355, 0.02);
 }
 
 TEST(PowerThreshold, CartesianPathThresholdsTheResampledImage) {

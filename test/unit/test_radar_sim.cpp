@@ -175,7 +175,7 @@ TEST(RadarSim, OcclusionAndTransmission) {
   const sim::SimTrajectory ego = straight(1e-9);
   // A facade 10 m ahead hides one 25 m ahead; off to the side (no facade in front) a pole at the
   // same range shows.
-  const double side_angle = 36 * M_PI / 180;
+  const double side_angle = 36 * kPi / 180;
   const sim::World w = sim::World::fromPrimitives(
       ego, {{{10, -3}, {10, 3}, sim::Material::Building}, {{25, -5}, {25, 5}, sim::Material::Building}},
       {{{25 * std::cos(side_angle), 25 * std::sin(side_angle)}, 0.12, sim::Material::Pole}});

@@ -128,3 +128,44 @@ TEST(ScanningOdometry, AScenePoorerForGoodCausesNoFallbackStorm) {
   EXPECT_NEAR(steps.back().pose.x(), step * (scans - 1), 1.0);
   EXPECT_NEAR(steps.back().pose.y(), 0.0, 0.5);
 }
+
+TEST(ScanningOdometry, KeepsNoPointerToTheCallersCloud) {
+  // After addScan returns, the caller's cloud is the caller's alone: the odometry copies what it
+  // keeps (the keyframe, the matcher's source), so the caller may reuse or change it at once, with
+  // motion compensation or without, matched to keyframes or scan to scan.
+  std::mt19937 rng(9);
+  std::normal_distribution<float> noise(0.f, 0.03f);
+  std::vector<Eigen::Vector2d> world;
+  for (double x = -60; x <= 120; x += 0.5) {
+    world.emplace_back(x, 9.0);
+    if (std::fmod(x, 7.0) < 0.5) world.emplace_back(x, -8.0 + std::fmod(x, 2.0));
+  }
+  std::vector<pcl::PointCloud<PointRadar>> scans;
+  for (int k = 0; k < 8; ++k) {
+    pcl::PointCloud<PointRadar> cloud = *observeWorld(world, 2.0 * k, rng, noise);
+    for (std::size_t i = 0; i < cloud.size(); ++i) cloud[i].time_offset = 0.25f * static_cast<float>(i % 400) / 400.f;
+    scans.push_back(cloud);
+  }
+  for (const bool compensate : {true, false})
+    for (const double keyframe_distance : {8.0, 0.0}) {
+      ScanningOdometryOptions options;
+      options.compensation.enabled = compensate;
+      options.keyframes.distance = keyframe_distance;
+      ScanningOdometry kept(options, makeMatcher(Method::PwNdt, options.grid));
+      ScanningOdometry reused(options, makeMatcher(Method::PwNdt, options.grid));
+      std::vector<pcl::PointCloud<PointRadar>::Ptr> kept_clouds;
+      for (std::size_t k = 0; k < scans.size(); ++k) {
+        kept_clouds.emplace_back(new pcl::PointCloud<PointRadar>(scans[k]));
+        kept.addScan(ScanFrame{1000000 + 250000 * static_cast<std::int64_t>(k), kept_clouds.back()});
+        pcl::PointCloud<PointRadar>::Ptr mine(new pcl::PointCloud<PointRadar>(scans[k]));
+        reused.addScan(ScanFrame{1000000 + 250000 * static_cast<std::int64_t>(k), mine});
+        EXPECT_EQ(mine.use_count(), 1) << "scan " << k << ": the odometry still holds the caller's cloud";
+        for (auto& p : *mine) p.x += 100.f;  // the caller reuses its buffer
+      }
+      ASSERT_EQ(kept.steps().size(), reused.steps().size());
+      for (std::size_t k = 0; k < kept.steps().size(); ++k)
+        EXPECT_EQ(kept.steps()[k].pose, reused.steps()[k].pose)
+            << "scan " << k << ", compensation " << compensate << ", keyframe distance " << keyframe_distance;
+      EXPECT_NEAR(kept.steps().back().pose.x(), 14.0, 0.5);
+    }
+}

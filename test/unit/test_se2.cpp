@@ -5,10 +5,10 @@
 using namespace radar_ndt;
 
 TEST(Se2, NormalizeAngleWrapsIntoHalfOpenInterval) {
-  EXPECT_NEAR(normalizeAngle(3 * M_PI), M_PI, 1e-12);
-  EXPECT_NEAR(normalizeAngle(-M_PI), M_PI, 1e-12);
+  EXPECT_NEAR(normalizeAngle(3 * kPi), kPi, 1e-12);
+  EXPECT_NEAR(normalizeAngle(-kPi), kPi, 1e-12);
   EXPECT_NEAR(normalizeAngle(0.5), 0.5, 1e-15);
-  EXPECT_NEAR(normalizeAngle(-7.0), -7.0 + 2 * M_PI, 1e-12);
+  EXPECT_NEAR(normalizeAngle(-7.0), -7.0 + 2 * kPi, 1e-12);
 }
 
 TEST(Se2, ComposeInverseBetweenAgreeWithMatrices) {
@@ -39,10 +39,10 @@ TEST(SE2, VelocityOfInvertsIntegrateVelocity) {
 
 TEST(Se2, IntegrateVelocityIsTheArc) {
   // Quarter circle of radius 10 m: v = 10 m/s, ω = π/2 rad/s for 1 s.
-  const Pose2 p = integrateVelocity(Eigen::Vector3d(10.0, 0.0, M_PI / 2), 1.0);
-  EXPECT_NEAR(p.x(), 20.0 / M_PI, 1e-9);
-  EXPECT_NEAR(p.y(), 20.0 / M_PI, 1e-9);
-  EXPECT_NEAR(p.z(), M_PI / 2, 1e-12);
+  const Pose2 p = integrateVelocity(Eigen::Vector3d(10.0, 0.0, kPi / 2), 1.0);
+  EXPECT_NEAR(p.x(), 20.0 / kPi, 1e-9);
+  EXPECT_NEAR(p.y(), 20.0 / kPi, 1e-9);
+  EXPECT_NEAR(p.z(), kPi / 2, 1e-12);
   const Pose2 straight = integrateVelocity(Eigen::Vector3d(3.0, -1.0, 0.0), 0.5);
   EXPECT_NEAR(straight.x(), 1.5, 1e-12);
   EXPECT_NEAR(straight.y(), -0.5, 1e-12);

@@ -71,7 +71,7 @@ TEST(TrajectoryIo, CommentsBlankLinesAndCrlfAreAccepted) {
                                      "# t x y z qx qy qz qw\r\n\r\n1.0 1 2 3 0 0 0 1\r\n  \n2.0 1 2 3 0 0 0.7071068 0.7071068\n");
   const auto t = readTum(path);
   ASSERT_EQ(t.size(), 2u);
-  EXPECT_NEAR(toPose2(t.poses[1]).z(), M_PI / 2, 1e-6);
+  EXPECT_NEAR(toPose2(t.poses[1]).z(), kPi / 2, 1e-6);
 }
 
 TEST(TrajectoryIo, WriteIsAtomicAndLeavesNoTemporaryFile) {

@@ -21,7 +21,7 @@ using namespace radar_ndt;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+constexpr double kDeg = kPi / 180.0;
 
 template <typename PointT>
 typename pcl::PointCloud<PointT>::Ptr convert(const pcl::PointCloud<PointRadar>& in) {
@@ -105,7 +105,7 @@ void runCase(const Case& c) {
       moved.push_back(p);
     }
     pair.source = moved;
-    const double dir = 2 * M_PI * (0.5 + 0.5 * U(rng));
+    const double dir = 2 * kPi * (0.5 + 0.5 * U(rng));
     const Pose2 guess = compose(truth, Pose2(c.init_m * std::cos(dir), c.init_m * std::sin(dir),
                                              (U(rng) > 0 ? 1 : -1) * c.init_deg * kDeg));
     WeightedNDT2D<PointT, PointT> ndt;
@@ -603,4 +603,102 @@ TEST(WeightedNDT2D, SettersWriteOneSettingsStructThatSetSettingsValidates) {
   ndt.setSettings(good);
   EXPECT_EQ(ndt.getResolution(), 4.0f);
   EXPECT_EQ(ndt.getPowerShift(), 0.3f);
+}
+
+// The inline-exp helper's macro stays inside its header.
+#ifdef RADAR_NDT_ALWAYS_INLINE
+#error "RADAR_NDT_ALWAYS_INLINE leaks out of radar_ndt/registration/detail/fast_exp.h"
+#endif
+
+// A rotation step limit of 0 would return the guess as converged, a negative one diverge as
+// converged: both are refused and the old limits kept. A translation limit <= 0 still means half
+// the grid.
+TEST(WeightedNDT2D, SetMaxStepRefusesARotationLimitThatIsNotPositive) {
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);  // the PCL_ERRORs below are expected
+  const auto pair = standardPair(21);
+  for (const double bad : {0.0, -0.1, std::numeric_limits<double>::quiet_NaN()}) {
+    WeightedNDT2D<PointRadar, PointRadar> ndt;
+    ndt.setMaxStep(1.0, bad);
+    EXPECT_EQ(ndt.getSettings().max_step_rotation, 0.2) << bad;
+    EXPECT_EQ(ndt.getSettings().max_step_translation, -1.0) << bad;
+    const AlignResult r = alignPair(pair, Pose2::Zero(), ndt);
+    EXPECT_TRUE(r.converged) << bad;
+    expectClose(r.pose, pair.source_in_target, 0.02, 0.05);
+  }
+  WeightedNDT2D<PointRadar, PointRadar> ndt;
+  ndt.setMaxStep(0.0, 0.05);  // translation: half the grid
+  EXPECT_EQ(ndt.getSettings().max_step_rotation, 0.05);
+  const AlignResult r = alignPair(pair, Pose2::Zero(), ndt);
+  EXPECT_TRUE(r.converged);
+  expectClose(r.pose, pair.source_in_target, 0.02, 0.05);
+}
+
+// pcl::Registration refuses an empty cloud and keeps the previous one; ours takes it, and align()
+// reports the degenerate problem instead of matching the previous clouds again.
+TEST(WeightedNDT2D, AnEmptySourceOrTargetIsDegenerateNotThePreviousCloud) {
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  using Cloud = pcl::PointCloud<PointRadar>;
+  const auto pair = standardPair(22);
+  for (int which = 0; which < 4; ++which) {  // empty source, empty target, null source, null target
+    WeightedNDT2D<PointRadar, PointRadar> ndt;
+    const AlignResult good = alignPair(pair, Pose2::Zero(), ndt);
+    ASSERT_TRUE(good.converged);
+    const Cloud::Ptr empty = which < 2 ? Cloud::Ptr(new Cloud) : Cloud::Ptr();
+    if (which % 2 == 0)
+      ndt.setInputSource(empty);
+    else
+      ndt.setInputTarget(empty);
+    Cloud out;
+    ndt.align(out, toMatrix4<float>(Pose2(0.3, 0.1, 0.01)));
+    EXPECT_FALSE(ndt.hasConverged()) << which;
+    EXPECT_TRUE(ndt.wasDegenerate()) << which;
+    EXPECT_TRUE(toPose2(ndt.getFinalTransformation()).isApprox(Pose2(0.3, 0.1, 0.01), 1e-6))
+        << which << ": a degenerate problem returns its guess, not the previous match";
+  }
+}
+
+// A degenerate problem has no pose information: infinite variances, no correlations (not NaN).
+TEST(WeightedNDT2D, ADegeneratePoseCovarianceIsInfiniteOnTheDiagonalAndZeroElsewhere) {
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  const auto pair = standardPair(23);
+  WeightedNDT2D<PointRadar, PointRadar> ndt;
+  ndt.setPowerShift(1.5f);  // every weight zero
+  alignPair(pair, Pose2::Zero(), ndt);
+  ASSERT_TRUE(ndt.wasDegenerate());
+  const Eigen::Matrix3d& C = ndt.getPoseCovariance();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (i == j)
+        EXPECT_TRUE(std::isinf(C(i, j)) && C(i, j) > 0) << C;
+      else
+        EXPECT_EQ(C(i, j), 0.0) << C;
+}
+
+// setTransformationRotationEpsilon(≤ 0) means 1 − the transformation epsilon, as in
+// pcl::IterativeClosestPoint (PCL 1.13), not "any rotation step under 90° is small": the threshold
+// the solve uses is that, and a matcher given 0 or −1 stops exactly where one given 1 − ε does.
+TEST(WeightedNDT2D, ARotationEpsilonThatIsNotPositiveMeansOneMinusTheTransformationEpsilon) {
+  struct Exposed : WeightedNDT2D<PointRadar, PointRadar> {
+    using WeightedNDT2D<PointRadar, PointRadar>::rotationEpsilon;
+  };
+  Exposed ndt;
+  EXPECT_EQ(ndt.rotationEpsilon(), std::cos(1e-4)) << "the default";
+  ndt.setTransformationEpsilon(1e-4);
+  for (const double rot_eps : {0.0, -1.0}) {
+    ndt.setTransformationRotationEpsilon(rot_eps);
+    EXPECT_EQ(ndt.rotationEpsilon(), 1.0 - 1e-4) << rot_eps;
+  }
+  ndt.setTransformationRotationEpsilon(0.999);
+  EXPECT_EQ(ndt.rotationEpsilon(), 0.999);
+
+  const auto pair = noisyPair(42, 4000);
+  auto run = [&](double rot_eps) {
+    WeightedNDT2D<PointRadar, PointRadar> m;
+    m.setTransformationEpsilon(1e-4);
+    m.setTransformationRotationEpsilon(rot_eps);
+    const AlignResult r = alignPair(pair, Pose2(0.5, -0.3, 0.05), m);
+    return std::make_pair(r.pose, m.getFinalNumIteration());
+  };
+  const auto explicit_threshold = run(1.0 - 1e-4);
+  for (const double rot_eps : {0.0, -1.0}) EXPECT_EQ(run(rot_eps), explicit_threshold) << rot_eps;
 }

@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+constexpr double kDeg = kPi / 180.0;
 
 double dbToLinear(double db) { return std::pow(10.0, 0.1 * db); }
 
@@ -165,7 +165,7 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
     const double lo = r - 4.0 * sigma, hi = r + depth + 4.0 * sigma;
     const int b0 = std::max(0, static_cast<int>(std::floor(lo / res - offset)));
     const int b1 = std::min(B - 1, static_cast<int>(std::ceil(hi / res - offset)));
-    const double norm = sigma * std::sqrt(2.0 * M_PI) / std::max(depth, 1e-3);
+    const double norm = sigma * std::sqrt(2.0 * kPi) / std::max(depth, 1e-3);
     for (int b = b0; b <= b1; ++b) {
       const double x = (b + offset) * res - r;
       const double k = depth > 1e-3 ? (phi(x / sigma) - phi((x - depth) / sigma)) * norm
@@ -183,7 +183,7 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
 
   for (int a = 0; a < A; ++a) {
     scan.encoder[a] = static_cast<std::uint16_t>((static_cast<long>(a) * oxford.encoder_size / A) % oxford.encoder_size);
-    scan.angle[a] = oxford.convention.toVehicleAngle(2.0 * M_PI * scan.encoder[a] / oxford.encoder_size);
+    scan.angle[a] = oxford.convention.toVehicleAngle(2.0 * kPi * scan.encoder[a] / oxford.encoder_size);
     const double ta = t + a * o.sweep_period / A;
     scan.stamp_us[a] = toMicros(ta);  // re-based by the caller
     const Pose2 pose = ego.at(ta);

@@ -115,8 +115,8 @@ SimTrajectory builtinDrive(double duration, double period) {
   if (!(duration > period) || !(period > 0)) throw std::invalid_argument("radar_sim: the built-in drive needs duration > period > 0");
   // A repeating 60 s pattern of (seconds, target speed m/s, yaw rate rad/s).
   struct Phase { double seconds, speed, yaw_rate; };
-  static const Phase kPattern[] = {{6, 8, 0},      {14, 12, 0},    {7, 6, M_PI / 14}, {12, 11, 0},
-                                   {6, 5, -M_PI / 12}, {5, 10, 0.04}, {4, 0, 0},       {6, 9, 0}};
+  static const Phase kPattern[] = {{6, 8, 0},      {14, 12, 0},    {7, 6, kPi / 14}, {12, 11, 0},
+                                   {6, 5, -kPi / 12}, {5, 10, 0.04}, {4, 0, 0},       {6, 9, 0}};
   double pattern_length = 0;
   for (const Phase& p : kPattern) pattern_length += p.seconds;
   constexpr double kStep = 0.01, kAccel = 2.0;
@@ -296,7 +296,7 @@ World World::generate(const SimTrajectory& path, const WorldOptions& o) {
         for (int i = 0; i < n; ++i) {
           const double s = s0 + rng.uniform(0, kBlock), off = side * (half + rng.uniform(6.0, 60.0));
           const Eigen::Vector2d c = offsetPoint(path, s, off);
-          const double a = mirroredAngle(s, rng.uniform(0, 2 * M_PI)), kind = rng.uniform();
+          const double a = mirroredAngle(s, rng.uniform(0, 2 * kPi)), kind = rng.uniform();
           if (kind < 0.35) {
             const double len = rng.uniform(4.0, 14.0);
             const Eigen::Vector2d d(std::cos(a) * len / 2, std::sin(a) * len / 2);
@@ -395,7 +395,7 @@ void World::moverState(const Mover& m, double t, Pose2& pose, Eigen::Vector2d& v
     const double s = m.follows_ego ? path_->arcAt(tt) + m.s0 : m.s0 + m.speed * tt;
     Pose2 p = path_->atArc(s);
     const Eigen::Vector2d c = offsetPoint(*path_, s, m.lateral);
-    return Pose2(c.x(), c.y(), m.speed < 0 ? normalizeAngle(p.z() + M_PI) : p.z());
+    return Pose2(c.x(), c.y(), m.speed < 0 ? normalizeAngle(p.z() + kPi) : p.z());
   };
   pose = at(t);
   const Pose2 a = at(t - 0.05), b = at(t + 0.05);

@@ -21,7 +21,7 @@ std::vector<Segment> makeWorld(const SyntheticScanOptions& o, std::mt19937& rng)
   const auto add = [&](Eigen::Vector2d a, Eigen::Vector2d b) { w.push_back({a, b}); };
   for (int i = 0; i < 12; ++i) {  // building outlines (rectangles)
     const Eigen::Vector2d c(U(rng), U(rng));
-    const double yaw = U01(rng) * M_PI, sx = 4 + 14 * U01(rng), sy = 4 + 10 * U01(rng);
+    const double yaw = U01(rng) * kPi, sx = 4 + 14 * U01(rng), sy = 4 + 10 * U01(rng);
     const Eigen::Rotation2Dd R(yaw);
     const Eigen::Vector2d k[4] = {c + R * Eigen::Vector2d(-sx, -sy), c + R * Eigen::Vector2d(sx, -sy),
                                   c + R * Eigen::Vector2d(sx, sy), c + R * Eigen::Vector2d(-sx, sy)};
@@ -29,7 +29,7 @@ std::vector<Segment> makeWorld(const SyntheticScanOptions& o, std::mt19937& rng)
   }
   for (int i = 0; i < 14; ++i) {  // free walls and fences
     const Eigen::Vector2d a(U(rng), U(rng));
-    const double yaw = U01(rng) * 2 * M_PI, len = 5 + 25 * U01(rng);
+    const double yaw = U01(rng) * 2 * kPi, len = 5 + 25 * U01(rng);
     add(a, a + len * Eigen::Vector2d(std::cos(yaw), std::sin(yaw)));
   }
   for (int i = 0; i < 40; ++i) {  // poles
@@ -40,7 +40,7 @@ std::vector<Segment> makeWorld(const SyntheticScanOptions& o, std::mt19937& rng)
   }
   for (int i = 0; i < 4; ++i) {  // curved kerbs
     const Eigen::Vector2d c(U(rng), U(rng));
-    const double r = 8 + 20 * U01(rng), a0 = U01(rng) * 2 * M_PI;
+    const double r = 8 + 20 * U01(rng), a0 = U01(rng) * 2 * kPi;
     for (int j = 0; j < 16; ++j) {
       const double t0 = a0 + 0.1 * j, t1 = a0 + 0.1 * (j + 1);
       add(c + r * Eigen::Vector2d(std::cos(t0), std::sin(t0)), c + r * Eigen::Vector2d(std::cos(t1), std::sin(t1)));
@@ -93,8 +93,8 @@ SyntheticScanPair makeSyntheticScanPair(const SyntheticScanOptions& o) {
   const std::vector<Segment> world = makeWorld(o, rng);
   std::uniform_real_distribution<double> U01(0, 1);
   SyntheticScanPair pair;
-  const double r = o.max_translation * U01(rng), dir = 2 * M_PI * U01(rng);
-  const double yaw = (2 * U01(rng) - 1) * o.max_rotation_deg * M_PI / 180.0;
+  const double r = o.max_translation * U01(rng), dir = 2 * kPi * U01(rng);
+  const double yaw = (2 * U01(rng) - 1) * o.max_rotation_deg * kPi / 180.0;
   pair.source_in_target = Pose2(r * std::cos(dir), r * std::sin(dir), yaw);
   sampleScan(world, Pose2::Zero(), o, rng, pair.target);
   sampleScan(world, pair.source_in_target, o, rng, pair.source);

@@ -8,7 +8,7 @@
 namespace radar_ndt {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / M_PI;
+constexpr double kRadToDeg = 180.0 / kPi;
 
 Eigen::Isometry3d interpolate(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double t) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

@@ -1,4 +1,5 @@
 #include "radar_ndt/frontend/point_covariance.h"
+#include "radar_ndt/se2.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,9 +19,9 @@ Eigen::Matrix2d polarCovariance(double x, double y, const PolarAccuracy& a) {
   const double r = std::hypot(x, y);
   const double az = std::atan2(y, x);
   const double sr = r <= a.near_range ? a.range_sigma_near : a.range_sigma_far;
-  const double edge = a.edge_azimuth_deg * M_PI / 180.0;
+  const double edge = a.edge_azimuth_deg * kPi / 180.0;
   const double frac = edge > 0 ? std::min(std::abs(az) / edge, 1.0) : 1.0;
-  const double sa = (a.azimuth_sigma_center_deg + frac * (a.azimuth_sigma_edge_deg - a.azimuth_sigma_center_deg)) * M_PI / 180.0;
+  const double sa = (a.azimuth_sigma_center_deg + frac * (a.azimuth_sigma_edge_deg - a.azimuth_sigma_center_deg)) * kPi / 180.0;
   // J = ∂(x, y)/∂(r, θ) = [[cos θ, −r sin θ], [sin θ, r cos θ]]; Σ = J diag(σr², σθ²) Jᵀ.
   Eigen::Matrix2d J;
   J << std::cos(az), -r * std::sin(az), std::sin(az), r * std::cos(az);

@@ -1,4 +1,5 @@
 #include "radar_ndt/frontend/power_threshold.h"
+#include "radar_ndt/se2.h"
 
 #include <algorithm>
 #include <cmath>
@@ -260,7 +261,7 @@ CartesianImage PowerThreshold::cartesianImage(const PolarScan& scan) const {
 void PowerThreshold::compute(const PolarScan& scan, pcl::PointCloud<PointRadar>& out) const {
   out.clear();
   out.header.stamp = static_cast<std::uint64_t>(scan.stamp);
-  const double sigma_theta = options_.beam_width_deg * M_PI / 180.0 / 2.355;  // FWHM → σ
+  const double sigma_theta = options_.beam_width_deg * kPi / 180.0 / 2.355;  // FWHM → σ
   const double sigma_r = scan.range_resolution;
   if (options_.cartesian) {
     // The image is never materialised: each pixel of a block that can pass is sampled and kept if

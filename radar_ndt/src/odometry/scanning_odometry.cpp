@@ -67,7 +67,7 @@ const OdometryStep& ScanningOdometry::addFirstScan(const ScanFrame& scan, Odomet
   // offsets are short against any later correction) and becomes the first target.
   step.status = StepStatus::First;
   keyframes_.reset(Pose2::Zero(), scan.timestamp_us);
-  previous_raw_ = scan.cloud;
+  previous_raw_.reset(new pcl::PointCloud<PointRadar>(*scan.cloud));  // a copy: the caller's cloud is not kept
   target_compensated_ = false;
   target_.reset(new pcl::PointCloud<PointRadar>(*scan.cloud));
   matcher_holds_target_ = false;
@@ -134,7 +134,8 @@ Pose2 ScanningOdometry::bestStartHypothesis(const ScanFrame& scan, const Pose2& 
   RadarRegistration& matcher = matcher_.registration();
   Pose2 best_guess = guess;
   double best = -std::numeric_limits<double>::infinity();
-  matcher.setInputSource(scan.cloud);
+  *compensated_ = *scan.cloud;  // the matcher keeps its source: ours, not the caller's
+  matcher.setInputSource(compensated_);
   for (const double h : options_.start_hypotheses) {
     matcher.align(aligned_, toMatrix4<float>(Pose2(h, 0, 0)));
     if (!matcher.hasConverged()) continue;
@@ -237,8 +238,8 @@ bool ScanningOdometry::matchScan(const Attempt& a, const Pose2& guess, Pose2* es
       matcher.setInputSource(compensated_);
       ++*rounds;
     } else {
-      // The caller's cloud is const; the matcher only reads its source.
-      matcher.setInputSource(pcl::PointCloud<PointRadar>::ConstPtr(a.raw, [](const pcl::PointCloud<PointRadar>*) {}));
+      *compensated_ = *a.raw;  // the matcher keeps its source: ours, not the caller's
+      matcher.setInputSource(compensated_);
     }
     matcher.align(aligned_, toMatrix4<float>(compose(a.prev_in_keyframe, est)));
     if (!matcher.hasConverged()) return false;
@@ -265,7 +266,7 @@ void ScanningOdometry::updateKeyframe(const ScanFrame& scan, const OdometryStep&
   const bool compensate = options_.compensation.enabled;
   if (keyframes_.replaceAfter(matched, step.pose, keyframe_usable)) {
     keyframes_.reset(step.pose, step.timestamp_us);
-    previous_raw_ = scan.cloud;
+    previous_raw_.reset(new pcl::PointCloud<PointRadar>(*scan.cloud));
     target_.reset(new pcl::PointCloud<PointRadar>);
     matcher_holds_target_ = false;
     if (compensate)

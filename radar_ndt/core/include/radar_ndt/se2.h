@@ -12,10 +12,13 @@ namespace radar_ndt {
 
 using Pose2 = Eigen::Vector3d;  ///< (x, y, yaw)
 
+/// π, as a constant: the POSIX macro for it is not standard C++.
+constexpr double kPi = 3.14159265358979323846;
+
 /// Wraps an angle to (-pi, pi].
 inline double normalizeAngle(double a) {
-  a = std::remainder(a, 2.0 * M_PI);  // [-pi, pi]
-  return a <= -M_PI ? a + 2.0 * M_PI : a;
+  a = std::remainder(a, 2.0 * kPi);  // [-pi, pi]
+  return a <= -kPi ? a + 2.0 * kPi : a;
 }
 
 template <typename Scalar = double>

@@ -64,7 +64,8 @@ class ScanningOdometry {
   /// An empty `matcher`: constant velocity throughout. Validates `options`.
   ScanningOdometry(const ScanningOdometryOptions& options, MatcherAdapter matcher);
 
-  /// Adds a thresholded scan (planar, in the vehicle frame at its reference time).
+  /// Adds a thresholded scan (planar, in the vehicle frame at its reference time). Nothing keeps a
+  /// pointer to the scan's cloud after it returns: the odometry copies what it needs.
   const OdometryStep& addScan(const ScanFrame& scan);
   /// A scan at `timestamp_us` that could not be read (corrupt or missing file): a Bridged step
   /// whose pose continues the last step at its velocity. Matching state is untouched, so the next
@@ -121,7 +122,7 @@ class ScanningOdometry {
   double matcher_grid_ = 0;
   float matcher_shift_ = -1;
   pcl::PointCloud<PointRadar>::Ptr target_;             ///< the keyframe at its reference time
-  pcl::PointCloud<PointRadar>::ConstPtr previous_raw_;  ///< the keyframe as given, to re-compensate
+  pcl::PointCloud<PointRadar>::ConstPtr previous_raw_;  ///< a copy of the keyframe as given, to re-compensate
   pcl::PointCloud<PointRadar>::Ptr compensated_;        ///< scratch: the source of the last attempt
   pcl::PointCloud<PointRadar> aligned_;  ///< scratch: the matcher's output (unused; kept to reuse its memory)
   bool target_replaced_ = false;       ///< the matcher holds a re-compensated copy of target_

@@ -47,7 +47,11 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   WeightedNDT2D();
   ~WeightedNDT2D() override = default;
 
-  /// Sets the target and builds its cell model (all grid sizes), once per target. The setters
+  /// Sets the source scan. An empty (or null) cloud is taken as given: the next align() reports a
+  /// degenerate problem (pcl::Registration would keep the previous source instead).
+  void setInputSource(const typename PointCloudSource::ConstPtr& cloud) override;
+  /// Sets the target and builds its cell model (all grid sizes), once per target. An empty (or
+  /// null) cloud is taken as given, as for the source. The setters
   /// below that change the model (grid sizes, power shift, eigenvalue ratio, minimum points, cell
   /// lookup) only mark it stale: it is rebuilt once, at the next setInputTarget() or align(), so
   /// changing settings and target together costs one build.
@@ -91,12 +95,10 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   void setCellLookup(CellLookup lookup);
   CellLookup getCellLookup() const { return settings_.cell_lookup; }
 
-  /// Newton steps are limited to this translation (m, default: half the grid size) and rotation
-  /// (rad, default 0.2) before the line search.
-  void setMaxStep(double translation_m, double rotation_rad) {
-    settings_.max_step_translation = translation_m;
-    settings_.max_step_rotation = rotation_rad;
-  }
+  /// Newton steps are limited to this translation (m; ≤ 0: half the grid size, the default) and
+  /// rotation (rad, default 0.2) before the line search. A rotation limit that is not positive and
+  /// finite is refused (PCL_ERROR, nothing changes): no step could be taken.
+  void setMaxStep(double translation_m, double rotation_rad);
 
   /// Newton iterations of the last align(), summed over coarse-to-fine stages (PCL NDT's name).
   /// setMaximumIterations() bounds the iterations of each grid stage (default 35); a stage first
@@ -106,7 +108,7 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   const Eigen::Matrix3d& getFinalHessian() const { return final_hessian_; }
   /// 3x3 covariance of (x, y, yaw): the inverse of the weighted point-to-distribution information
   /// Σᵢ wᵢ eᵢ Jᵢᵀ Σ⁻¹ Jᵢ (eᵢ the point's Gaussian score). Optimistic (treats points as independent);
-  /// infinite diagonal when the problem is degenerate.
+  /// infinite diagonal and zero elsewhere when the problem is degenerate.
   const Eigen::Matrix3d& getPoseCovariance() const { return pose_covariance_; }
   /// Source points that found at least one cell at the solution (last stage).
   std::size_t getNumMatchedPoints() const { return num_matched_points_; }
@@ -119,7 +121,7 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   std::size_t getNumCells() const { return grids_.empty() ? 0 : grids_.back().cells.size(); }
   std::size_t getTargetModelBytes() const;
   /// True when the last align() stopped because the problem was degenerate (too few matched
-  /// points, a rank-deficient Hessian, no target cells).
+  /// points, a rank-deficient Hessian, no target cells, an empty source or target).
   bool wasDegenerate() const { return degenerate_; }
 
  protected:
@@ -138,6 +140,9 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   void computeTransformation(PointCloudSource& output, const Matrix4& guess) override;
 
   void buildTargetModel();
+  /// The rotation epsilon the solve uses: setTransformationRotationEpsilon's when positive, else
+  /// 1 − the transformation epsilon, as pcl::IterativeClosestPoint reads it.
+  double rotationEpsilon() const;
   void prepareSource();
 
   WeightedNDT2DSettings settings_;

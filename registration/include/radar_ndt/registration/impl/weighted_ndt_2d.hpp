@@ -31,9 +31,43 @@ WeightedNDT2D<PointSource, PointTarget>::WeightedNDT2D() {
 }
 
 template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::setInputSource(const typename PointCloudSource::ConstPtr& cloud) {
+  if (cloud && !cloud->empty()) {
+    Base::setInputSource(cloud);
+    return;
+  }
+  // pcl::Registration refuses an empty cloud and keeps the previous one, which align() would then
+  // match again as if nothing happened; take it, so align() reports the degenerate problem.
+  this->source_cloud_updated_ = true;
+  pcl::PCLBase<PointSource>::setInputCloud(cloud ? cloud : typename PointCloudSource::ConstPtr(new PointCloudSource));
+}
+
+template <typename PointSource, typename PointTarget>
 void WeightedNDT2D<PointSource, PointTarget>::setInputTarget(const PointCloudTargetConstPtr& cloud) {
-  Base::setInputTarget(cloud);
+  if (cloud && !cloud->empty()) {
+    Base::setInputTarget(cloud);
+  } else {  // as for the source: an empty target, not the previous one
+    target_ = cloud ? cloud : PointCloudTargetConstPtr(new PointCloudTarget);
+    this->target_cloud_updated_ = true;
+  }
   buildTargetModel();
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::setMaxStep(double translation_m, double rotation_rad) {
+  if (!(rotation_rad > 0.0) || !std::isfinite(rotation_rad) || !std::isfinite(translation_m)) {
+    PCL_ERROR("[radar_ndt::%s::setMaxStep] the rotation limit must be positive and finite and the translation finite "
+              "(<= 0: half the grid); keeping the old ones\n",
+              reg_name_.c_str());
+    return;
+  }
+  settings_.max_step_translation = translation_m;
+  settings_.max_step_rotation = rotation_rad;
+}
+
+template <typename PointSource, typename PointTarget>
+double WeightedNDT2D<PointSource, PointTarget>::rotationEpsilon() const {
+  return transformation_rotation_epsilon_ > 0 ? transformation_rotation_epsilon_ : 1.0 - transformation_epsilon_;
 }
 
 template <typename PointSource, typename PointTarget>
@@ -130,7 +164,8 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
   num_matched_points_ = 0;
   final_score_ = 0;
   final_hessian_.setZero();
-  pose_covariance_ = Eigen::Matrix3d::Identity() * std::numeric_limits<double>::infinity();
+  pose_covariance_.setZero();
+  pose_covariance_.diagonal().setConstant(std::numeric_limits<double>::infinity());
 
   Pose2 x = toPose2(guess);
   if (!x.allFinite()) {
@@ -183,7 +218,7 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
       const std::size_t stride = phase == 0 ? kSubsample : 1;
       const detail::StepTolerance tolerance{
           phase == 0 ? std::max(1e-4, transformation_epsilon_) : transformation_epsilon_,
-          phase == 0 ? std::min(std::cos(1e-3), transformation_rotation_epsilon_) : transformation_rotation_epsilon_};
+          phase == 0 ? std::min(std::cos(1e-3), rotationEpsilon()) : rotationEpsilon()};
       const bool diagnose = finest && phase == 1;  // also compute what the diagnostics need
       auto cost = [&](const Eigen::Vector3d& at, Eigen::Vector3d* g, Eigen::Matrix3d* H, detail::NdtDiagnostics* d) {
         const bool with = diagnose && d;

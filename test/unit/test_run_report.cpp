@@ -1,0 +1,90 @@
+// Run reports: the steps CSV, the summary JSON (with the metrics in radar_eval's shape) and text.
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "radar_ndt/evaluation/run_report.h"
+
+using namespace radar_ndt;
+
+namespace {
+ScanningRunResult scanningRun() {
+  ScanningRunResult r;
+  r.sequence = "seq";
+  r.method = Method::PclNdt;
+  r.period_s = 0.25;
+  r.scans_per_second = 40;
+  for (int k = 0; k < 3; ++k) {
+    OdometryStep s;
+    s.timestamp_us = 1000000 + 250000 * k;
+    s.status = k == 0 ? StepStatus::First : (k == 1 ? StepStatus::Matched : StepStatus::Fallback);
+    s.motion = Pose2(2.5 * (k > 0), 0.01, 0.001);
+    r.steps.push_back(s);
+  }
+  r.counters.cycles = 3;
+  r.counters.matched = 1;
+  r.counters.fallbacks = 1;
+  r.counters.poor_fit = 1;
+  r.problems = {"scan 7: broken"};
+  return r;
+}
+}  // namespace
+
+TEST(RunReport, StepsCsvHasAHeaderAndOneLinePerStep) {
+  const std::string csv = stepsCsv(scanningRun());
+  std::istringstream in(csv);
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_EQ(header.rfind("timestamp_us,status,attempts,grid,power_shift", 0), 0u) << header;
+  int lines = 0;
+  while (std::getline(in, line)) ++lines;
+  EXPECT_EQ(lines, 3);
+  EXPECT_NE(csv.find("1500000,fallback,"), std::string::npos) << csv;
+
+  AutomotiveRunResult a;
+  a.steps.resize(2);
+  a.steps[1].timestamp_us = 75000;
+  a.ground_truth.stamps = {0.0, 0.075};
+  a.ground_truth.poses = {toIsometry3(Pose2::Zero()), toIsometry3(Pose2(0.8, 0.0, 0.0))};
+  const std::string acsv = stepsCsv(a);
+  EXPECT_NE(acsv.find(",gt_dx,gt_dy,gt_dyaw\n"), std::string::npos);
+  EXPECT_NE(acsv.find(",0.8,0,0\n"), std::string::npos) << "the ground-truth motion of the cycle: " << acsv;
+}
+
+TEST(RunReport, SummaryJsonCarriesTheCountsAndTheMetricsInTheSharedShape) {
+  const ScanningRunResult r = scanningRun();
+  nlohmann::json j = nlohmann::json::parse(summaryJson(r));
+  EXPECT_EQ(j["method"], "pcl-ndt");
+  EXPECT_EQ(j["scans"], 3);
+  EXPECT_EQ(j["fallbacks"], 1);
+  EXPECT_DOUBLE_EQ(j["fallback_rate"].get<double>(), 1.0 / 3.0);
+  EXPECT_EQ(j["attempts_rejected_for_poor_fit"], 1);
+  EXPECT_EQ(j["unreadable_files"], 1);
+  EXPECT_DOUBLE_EQ(j["real_time_factor"].get<double>(), 10.0);
+  EXPECT_FALSE(j.contains("metrics"));
+  EvaluationReport rep;
+  rep.frame = FrameError{0.05, 0.1, 2};
+  j = nlohmann::json::parse(summaryJson(r, &rep));
+  EXPECT_DOUBLE_EQ(j["metrics"]["frame"]["trans_err_m"].get<double>(), 0.05);
+  EXPECT_EQ(j["metrics"], nlohmann::json::parse(metricsJson(rep)));
+
+  AutomotiveRunResult a;
+  a.scene = "scene-1";
+  a.method = Method::Doppler;
+  a.submap_size = 3;
+  a.period_s = 0.075;
+  a.median_total_ms = 0.75;
+  const nlohmann::json aj = nlohmann::json::parse(summaryJson(a));
+  EXPECT_EQ(aj["method"], "doppler");
+  EXPECT_EQ(aj["submap"], 3);
+  EXPECT_DOUBLE_EQ(aj["real_time_factor"].get<double>(), 100.0);
+  EXPECT_NE(summaryText(a).find("scene-1: 0 cycles"), std::string::npos) << summaryText(a);
+  EXPECT_NE(summaryText(r).find("fallbacks 1 (33.3 %)"), std::string::npos) << summaryText(r);
+}
+
+TEST(RunReport, DefaultMetricsPerPipeline) {
+  EXPECT_EQ(defaultMetrics(AutomotiveRunResult()), std::vector<Metric>{Metric::OneMeter});
+  EXPECT_EQ(defaultMetrics(ScanningRunResult()), (std::vector<Metric>{Metric::Kitti, Metric::Frame}));
+}

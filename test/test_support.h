@@ -21,6 +21,25 @@ inline std::string freshTempDir(const std::string& name) {
   return p.string();
 }
 
+/// Copies the first `scans` scans of the Oxford-layout sequence in `src` into `dst` (created):
+/// their lines of radar.timestamps, their PNGs and the ground-truth rows between them, as text.
+inline void copyOxfordSequence(const std::string& src, const std::string& dst, std::size_t scans) {
+  namespace fs = std::filesystem;
+  fs::create_directories(dst + "/radar");
+  fs::create_directories(dst + "/gt");
+  std::ifstream index(src + "/radar.timestamps");
+  std::ofstream index_out(dst + "/radar.timestamps");
+  std::string line;
+  for (std::size_t k = 0; k < scans && std::getline(index, line); ++k) {
+    index_out << line << '\n';
+    const std::string png = "/radar/" + line.substr(0, line.find(' ')) + ".png";
+    fs::copy_file(src + png, dst + png, fs::copy_options::overwrite_existing);
+  }
+  std::ifstream gt(src + "/gt/radar_odometry.csv");
+  std::ofstream gt_out(dst + "/gt/radar_odometry.csv");
+  for (std::size_t k = 0; k < scans && std::getline(gt, line); ++k) gt_out << line << '\n';  // the header, then scans − 1 rows
+}
+
 /// The bytes of a file ("" when it cannot be read).
 inline std::string readBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

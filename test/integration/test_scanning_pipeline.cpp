@@ -44,13 +44,24 @@ sim::SimTrajectory turningDrive(double speed, double radius, double duration) {
 
 }  // namespace
 
-TEST(ScanningOdometry, EndToEndOnASimulatedDrive) {
-  const std::string dir = test::freshTempDir("scanning_e2e");
-  sim::SequenceOptions seq;
-  seq.start = 40;  // moving, with a turn ahead
-  seq.frames = 60;
-  sim::writeScanningSequence(dir, sim::builtinDrive(60.0), sim::WorldOptions(), sim::ScanningOptions(), seq);
-  const ScanningSequence sequence(dir, ScanFormat::Oxford);
+/// The suite's one simulated sequence, written once: 60 scans (15 s) of the built-in drive from
+/// pose 40, moving, with a turn ahead. Tests that change files work on copies of its first scans.
+class ScanningPipeline : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = test::freshTempDir("scanning_pipeline");
+    sim::SequenceOptions seq;
+    seq.start = 40;
+    seq.frames = 60;
+    sim::writeScanningSequence(dir_, sim::builtinDrive(30.0), sim::WorldOptions(), sim::ScanningOptions(), seq);
+  }
+  static void TearDownTestSuite() { std::filesystem::remove_all(dir_); }
+  static std::string dir_;
+};
+std::string ScanningPipeline::dir_;
+
+TEST_F(ScanningPipeline, EndToEndOnASimulatedDrive) {
+  const ScanningSequence sequence(dir_, ScanFormat::Oxford);
   ASSERT_TRUE(sequence.hasGroundTruth());
   const ScanningRunResult r = runScanningOdometry(sequence, ScanningRunOptions());
   ASSERT_EQ(r.estimate.size(), 60u);
@@ -87,14 +98,11 @@ namespace {
 constexpr std::size_t kFaultSeqLength = 26;
 constexpr std::size_t kCorrupt = 5, kMissing = 9, kEmpty = 13, kDuplicate = 17, kNoise = 21;
 
-// One simulated sequence written into a fresh directory and run clean with `options`; then five
+// The first scans of the suite's sequence copied into a fresh directory and run clean with `options`; then five
 // kinds of bad frame are injected into it: a truncated PNG, a missing file, a well-formed scan with
 // no returns, an index line repeated (duplicated timestamp), and a scan that is all noise.
-ScanningRunResult writeRunCleanAndInjectFaults(const std::string& dir, const ScanningRunOptions& options) {
-  sim::SequenceOptions seq;
-  seq.start = 40;
-  seq.frames = kFaultSeqLength;
-  sim::writeScanningSequence(dir, sim::builtinDrive(30.0), sim::WorldOptions(), sim::ScanningOptions(), seq);
+ScanningRunResult copyRunCleanAndInjectFaults(const std::string& source, const std::string& dir, const ScanningRunOptions& options) {
+  test::copyOxfordSequence(source, dir, kFaultSeqLength);
   const ScanningSequence clean_sequence(dir, ScanFormat::Oxford);
   EXPECT_EQ(clean_sequence.size(), kFaultSeqLength);
   ScanningRunResult clean = runScanningOdometry(clean_sequence, options);
@@ -147,12 +155,12 @@ std::pair<double, double> largestMotionChanges(const ScanningRunResult& clean, c
 
 }  // namespace
 
-TEST(ScanningOdometry, FaultyFramesAreReportedBridgedAndCostOnlyTheirNeighbours) {
+TEST_F(ScanningPipeline, FaultyFramesAreReportedBridgedAndCostOnlyTheirNeighbours) {
   // The default pipeline on a sequence with five kinds of bad frame: each is reported or counted,
   // the run goes on, and every frame not next to a fault moves as in the clean run, to within the
   // matching noise.
   const std::string dir = test::freshTempDir("scanning_faults");
-  const ScanningRunResult clean = writeRunCleanAndInjectFaults(dir, ScanningRunOptions());
+  const ScanningRunResult clean = copyRunCleanAndInjectFaults(dir_, dir, ScanningRunOptions());
   ASSERT_EQ(clean.estimate.size(), kFaultSeqLength);
 
   const ScanningSequence sequence(dir, ScanFormat::Oxford);
@@ -190,7 +198,7 @@ TEST(ScanningOdometry, FaultyFramesAreReportedBridgedAndCostOnlyTheirNeighbours)
   std::printf("fault run: largest motion change %.2e (not next to a fault), %.3f (next to one)\n", worst_far, worst_near);
 }
 
-TEST(ScanningOdometry, ThePapersConfigurationReconvergesToTheCleanRunAfterAFault) {
+TEST_F(ScanningPipeline, ThePapersConfigurationReconvergesToTheCleanRunAfterAFault) {
   // Scan to scan without motion compensation (the paper): a match depends only on its two scans
   // and its guess. A fault leaves a different guess behind for a few frames, which can land the
   // match a few cm away (NDT's optimum moves where points change cells), but then the runs meet
@@ -201,7 +209,7 @@ TEST(ScanningOdometry, ThePapersConfigurationReconvergesToTheCleanRunAfterAFault
   ScanningRunOptions options;
   options.odometry.keyframes.distance = 0.0;
   options.odometry.compensation.enabled = false;
-  const ScanningRunResult clean = writeRunCleanAndInjectFaults(dir, options);
+  const ScanningRunResult clean = copyRunCleanAndInjectFaults(dir_, dir, options);
   ASSERT_EQ(clean.estimate.size(), kFaultSeqLength);
   const ScanningSequence sequence(dir, ScanFormat::Oxford);
   const ScanningRunResult r = runScanningOdometry(sequence, options);
@@ -225,14 +233,11 @@ TEST(ScanningOdometry, ThePapersConfigurationReconvergesToTheCleanRunAfterAFault
               worst_far, worst_settled, worst_near);
 }
 
-TEST(ScanningOdometry, DeterministicRunToRunAndWithOrWithoutTheDecodeThread) {
-  const std::string dir = test::freshTempDir("scanning_determinism");
-  sim::SequenceOptions seq;
-  seq.start = 60;
-  seq.frames = 14;
-  sim::writeScanningSequence(dir, sim::builtinDrive(30.0), sim::WorldOptions(), sim::ScanningOptions(), seq);
-  const ScanningSequence sequence(dir, ScanFormat::Oxford);
+TEST_F(ScanningPipeline, DeterministicRunToRunAndWithOrWithoutTheDecodeThread) {
+  const ScanningSequence sequence(dir_, ScanFormat::Oxford);
   ScanningRunOptions threaded, serial;
+  threaded.start = serial.start = 20;
+  threaded.max_scans = serial.max_scans = 14;
   threaded.prefetch = true;
   serial.prefetch = false;
   const ScanningRunResult a = runScanningOdometry(sequence, threaded);
@@ -250,7 +255,7 @@ TEST(ScanningOdometry, DeterministicRunToRunAndWithOrWithoutTheDecodeThread) {
 }
 
 
-TEST(ScanningOdometry, MotionCompensationHelpsOnAFastTurn) {
+TEST(ScanningPipelineFastTurn, MotionCompensationHelps) {
   const std::string dir = test::freshTempDir("scanning_turn");
   sim::SequenceOptions seq;
   seq.frames = 40;
@@ -267,7 +272,7 @@ TEST(ScanningOdometry, MotionCompensationHelpsOnAFastTurn) {
   EXPECT_LT(with.frame->trans_err_m, 1.1 * without.frame->trans_err_m);
 }
 
-TEST(ScanningOdometry, RadiateScansArePlausible) {
+TEST(ScanningPipelineRadiate, RealScansArePlausible) {
   const std::string dir = std::string(RADAR_NDT_SHARED_DATA) + "/radiate-tiny-foggy";
   if (!std::filesystem::exists(dir + "/Navtech_Polar.txt")) GTEST_SKIP() << "no " << dir << ": skipping the real-scan check";
   const ScanningSequence sequence(dir, ScanFormat::Radiate);

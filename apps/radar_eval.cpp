@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   const std::string usage =
       "Usage: radar_eval --gt GT --est EST [--metric kitti|1m|frame|ate|all] [--json] [--plot out.svg]\n"
       "Association: by index when either file has no timestamps (KITTI; equal lengths needed), else by\n"
-      "timestamp with the ground truth interpolated. Metrics are defined in README (\"Metrics\").";
+      "timestamp with the ground truth interpolated. Metrics are defined in docs/metrics.md.";
   po::variables_map vm;
   const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
   if (rc >= 0) return rc;

@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
       "       radar_sim --realism RADIATE_DIR [--realism-png side_by_side.png] [--frames N]\n"
       "Scanning: DIR/radar/<stamp>.png, DIR/radar.timestamps, DIR/gt/radar_odometry.csv (Oxford conventions)\n"
       "and DIR/gt/poses.txt (KITTI, first pose identity). Automotive: a nuScenes dataroot, tables in\n"
-      "DIR/v1.0-sim, five ARS408 radars at nuScenes' mountings. Settings: --list-settings, README (\"Radar simulator\").";
+      "DIR/v1.0-sim, five ARS408 radars at nuScenes' mountings. Settings: --list-settings, docs/simulator.md.";
   po::variables_map vm;
   const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
   if (rc >= 0) return rc;

@@ -190,8 +190,9 @@ TEST_F(ScanningPipeline, FaultyFramesAreReportedBridgedAndCostOnlyTheirNeighbour
   // bit-identical here: each scan, and so each keyframe, is motion-compensated with a velocity
   // estimated from the matches before it, a fault can shift the keyframe schedule by a scan for
   // good, and a match that stops at its guess carries the guess's difference on, so a different
-  // estimate next to a fault moves later matches by their noise (a few cm; README, "Scanning radar
-  // odometry"; the paper's configuration, below, meets the clean run again).
+  // estimate next to a fault moves later matches by their noise (a few cm; see
+  // docs/notes/2026-11-25-scanning-fault-identity.md; the paper's configuration, below, meets the
+  // clean run again).
   const auto [worst_far, worst_near] = largestMotionChanges(clean, r, sequence);
   EXPECT_LT(worst_far, 0.08) << "a frame not next to a fault";
   EXPECT_LT(worst_near, 0.3) << "a frame next to a fault is bridged with the motion model";

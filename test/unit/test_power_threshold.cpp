@@ -127,7 +127,7 @@ TEST(PowerThreshold, RealRadiateScans) {
     pcl::PointCloud<PointRadar> c, p;
     cartesian.compute(s, c);
     polar.compute(s, p);
-    // Measured on these scans: ~13–22k Cartesian points, ~3–4.5k polar ones (README).
+    // Measured on these scans: ~13–22k Cartesian points, ~3–4.5k polar ones (docs/results/scanning.md).
     EXPECT_GT(c.size(), 5000u) << name;
     EXPECT_LT(c.size(), 60000u) << name;
     EXPECT_GT(p.size(), 1000u) << name;

@@ -246,7 +246,7 @@ TEST(RadarSim, DisplayCompressionOnlyLowersReturnsAboveTheKnee) {
 }
 
 TEST(RadarSim, RealismAgainstRadiate) {
-  // The realism target, at a looser margin than the ±30 % README measures on 10 scans.
+  // The realism target, at a looser margin than the ±30 % docs/simulator.md measures on 10 scans.
   const std::string dir = std::string(RADAR_NDT_SHARED_DATA) + "/radiate-tiny-foggy/Navtech_Polar";
   if (!fs::exists(dir)) GTEST_SKIP() << "no " << dir << " (../shared/data is absent): skipping the realism check";
   const PowerThreshold front;
@@ -279,11 +279,11 @@ TEST(RadarSim, RealismAgainstRadiate) {
     const PowerStatistics m = simulate(sim::ScanningOptions());
     expectPixelStatistics(m);
     // The default display is plain log power: the thresholded powers spread about 2–3x wider than
-    // RADIATE's (README, "Realism"). Pinned so that a change to it is a decision, not an accident.
+    // RADIATE's (docs/simulator.md, "Realism"). Pinned so that a change to it is a decision, not an accident.
     EXPECT_GT(m.excess_p90 / r.excess_p90, 1.8);
   }
   {
-    SCOPED_TRACE("display_compression = 0.35 (the README's RADIATE match)");
+    SCOPED_TRACE("display_compression = 0.35 (the RADIATE match of docs/simulator.md)");
     sim::ScanningOptions o;
     o.display_compression = 0.35;
     const PowerStatistics m = simulate(o);

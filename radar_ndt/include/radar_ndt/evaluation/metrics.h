@@ -1,5 +1,5 @@
 #pragma once
-// Odometry metrics. Each is defined exactly here and in README ("Metrics").
+// Odometry metrics. Each is defined exactly here and in docs/metrics.md.
 //
 // All take a PosePairs: ground truth and estimate associated pose by pose, by index (when either
 // trajectory has no timestamps, e.g. KITTI files; then the lengths must match) or by timestamp

@@ -7,7 +7,7 @@
 // then least squares on the inliers gives the estimate and its 3x3 covariance. Beyond the paper,
 // the least squares also observes vy = 0 with σ EgoVelocityOptions::lateral_sigma: the vehicle frame's origin
 // (nuScenes: the rear axle) barely slides sideways, and without that prior the poorly observed vy
-// trades against ω (README, "Automotive pipeline").
+// trades against ω.
 //
 // One radar (or several at one place) sees only its own velocity, 2 of the 3 unknowns: ω × m is
 // then indistinguishable from a sideways v. There the estimator falls back to the single-radar

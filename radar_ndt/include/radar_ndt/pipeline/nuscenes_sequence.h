@@ -1,5 +1,5 @@
 #pragma once
-// A nuScenes-layout scene as a sequence of radar cycles (README, "Automotive pipeline"): the
+// A nuScenes-layout scene as a sequence of radar cycles (docs/automotive_pipeline.md): the
 // reference radar (default: the forward-facing one) clocks the cycles; each other radar gives its
 // latest sweep within one period before the reference sweep. The pose of cycle k is the vehicle
 // frame at its reference sweep's timestamp; ground truth is the ego pose of that sweep.

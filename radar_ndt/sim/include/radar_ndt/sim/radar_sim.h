@@ -180,7 +180,7 @@ struct ScanningOptions {
   double noise_display_level = 0.08;  ///< 0..1 value of the noise mean
   /// Compression of strong returns in the displayed power: dB over the noise mean above the knee
   /// count `display_compression` times (1: a plain log display). 0.35 above 10 dB reproduces the
-  /// power distribution of the thresholded points of the real RADIATE scans (README, "Realism").
+  /// power distribution of the thresholded points of the real RADIATE scans.
   double display_knee_db = 10.0;
   double display_compression = 1.0;
   double speckle_looks = 2.0;         ///< target fluctuation: gamma shape (1: Rayleigh)

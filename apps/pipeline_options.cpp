@@ -133,6 +133,20 @@ ScanningRunOptions scanningOptions(const po::variables_map& vm) {
   return o;
 }
 
+NuScenesDataset openDataset(const po::variables_map& vm) {
+  if (!vm.count("dataroot")) throw std::invalid_argument("--format nuscenes needs --dataroot DIR");
+  return NuScenesDataset(vm["dataroot"].as<std::string>(), vm["version"].as<std::string>());
+}
+
+std::vector<const NuScenesScene*> selectScenes(const NuScenesDataset& dataset, const po::variables_map& vm) {
+  std::vector<const NuScenesScene*> scenes;
+  if (vm["scene"].as<std::string>() == "all")
+    for (const auto& s : dataset.scenes()) scenes.push_back(&s);
+  else
+    scenes.push_back(&dataset.scene(vm["scene"].as<std::string>()));
+  return scenes;
+}
+
 std::vector<std::string> sequenceDirs(const po::variables_map& vm) {
   if (!vm.count("sequence") || vm["sequence"].as<std::vector<std::string>>().empty())
     throw std::invalid_argument("--format " + vm["format"].as<std::string>() + " needs --sequence DIR");

@@ -9,6 +9,7 @@
 
 #include <boost/program_options.hpp>
 
+#include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/scanning_run.h"
 
@@ -29,6 +30,11 @@ void addPipelineOptions(boost::program_options::options_description& options);
 AutomotiveRunOptions automotiveOptions(const boost::program_options::variables_map& vm);
 /// The scanning run options the command line asks for (oxford, radiate).
 ScanningRunOptions scanningOptions(const boost::program_options::variables_map& vm);
+
+/// The dataroot --dataroot and --version name (std::invalid_argument without --dataroot).
+NuScenesDataset openDataset(const boost::program_options::variables_map& vm);
+/// The scenes --scene names: one, or every scene of the dataset for "all".
+std::vector<const NuScenesScene*> selectScenes(const NuScenesDataset& dataset, const boost::program_options::variables_map& vm);
 
 /// --sequence's directories (at least one; std::invalid_argument otherwise).
 std::vector<std::string> sequenceDirs(const boost::program_options::variables_map& vm);

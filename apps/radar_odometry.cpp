@@ -75,14 +75,9 @@ void printJson(const std::vector<json>& runs, const std::vector<EvaluationReport
 }
 
 int runAutomotive(const po::variables_map& vm, const Outputs& base) {
-  if (!vm.count("dataroot")) throw std::invalid_argument("--format nuscenes needs --dataroot DIR");
   const AutomotiveRunOptions options = apps::automotiveOptions(vm);
-  const NuScenesDataset dataset(vm["dataroot"].as<std::string>(), vm["version"].as<std::string>());
-  std::vector<const NuScenesScene*> scenes;
-  if (vm["scene"].as<std::string>() == "all")
-    for (const auto& s : dataset.scenes()) scenes.push_back(&s);
-  else
-    scenes.push_back(&dataset.scene(vm["scene"].as<std::string>()));
+  const NuScenesDataset dataset = apps::openDataset(vm);
+  const std::vector<const NuScenesScene*> scenes = apps::selectScenes(dataset, vm);
   Outputs o = base;
   o.many = scenes.size() > 1;
   std::vector<json> runs;

@@ -266,14 +266,8 @@ int main(int argc, char** argv) {
     if (apps::pipelineOf(format) == apps::Pipeline::Scanning)
       return runScanningTable(apps::scanningOptions(vm), parseScanFormat(format), apps::sequenceDirs(vm),
                               vm["sweep-scans"].as<std::size_t>(), json_out, progress_on);
-    if (!vm.count("dataroot")) throw std::invalid_argument("--format nuscenes needs --dataroot DIR");
     const AutomotiveRunOptions options = apps::automotiveOptions(vm);
-    const NuScenesDataset dataset(vm["dataroot"].as<std::string>(), vm["version"].as<std::string>());
-    std::vector<const NuScenesScene*> scenes;
-    if (vm["scene"].as<std::string>() == "all")
-      for (const auto& s : dataset.scenes()) scenes.push_back(&s);
-    else
-      scenes.push_back(&dataset.scene(vm["scene"].as<std::string>()));
-    return runNuScenesTable(options, dataset, scenes, json_out, progress_on);
+    const NuScenesDataset dataset = apps::openDataset(vm);
+    return runNuScenesTable(options, dataset, apps::selectScenes(dataset, vm), json_out, progress_on);
   });
 }

@@ -12,7 +12,10 @@ endfunction()
 run(${CMAKE_COMMAND} --install "${BUILD_DIR}" --prefix "${prefix}")
 run(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE}" -B "${WORK_DIR}/build" -G "${GENERATOR}"
     -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${prefix}
-    # a sanitizer build installs instrumented static libraries: the consumer links the runtimes
-    "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}")
+    # A sanitizer build installs instrumented static libraries: the consumer links the runtimes,
+    # and compiles with them too, since Eigen allocates differently under AddressSanitizer (a
+    # cloud the library allocated must be freed the same way).
+    "-DCMAKE_CXX_FLAGS=${CONSUMER_SANITIZER_FLAGS}"
+    "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_SANITIZER_FLAGS}")
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
 run("${WORK_DIR}/build/consumer")

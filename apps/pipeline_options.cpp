@@ -44,7 +44,13 @@ void addPipelineOptions(po::options_description& opts) {
     ("max-cycles", po::value<std::size_t>(), "stop after this many cycles per scene, or scans (default: all)")
     ("max-range", po::value<double>(), ("nuscenes: drop detections beyond this range (m), default " + num(a.sequence.filter.max_range) +
                                         "; scanning: front-end range limit, default " + num(s.front_end.max_range)).c_str())
-    ("submap", po::value<std::size_t>(), ("nuscenes: N, radar cycles per submap (default " + num(static_cast<double>(a.odometry.submap_size)) + ")").c_str())
+    ("mode", po::value<std::string>(), (std::string("nuscenes: cycle-to-map (the newest cycle to a local map of earlier cycles, fused with the "
+                                        "Doppler motion) | paper (submap to submap, not fused: the paper's scheme); default ") +
+                                        toString(a.odometry.mode)).c_str())
+    ("submap", po::value<std::size_t>(), ("nuscenes, paper mode: N, radar cycles per submap (default " + num(static_cast<double>(a.odometry.submap_size)) + ")").c_str())
+    ("map-cycles", po::value<std::size_t>(), ("nuscenes, cycle-to-map: M, earlier cycles in the local map (default " +
+                                              num(static_cast<double>(a.odometry.map_cycles)) + ")").c_str())
+    ("no-fusion", po::bool_switch(), "nuscenes: the accepted match is the motion, not fused with the Doppler motion (ablation; paper mode never fuses)")
     ("covariance", po::value<std::string>(), "nuscenes: point covariance: polar (ARS408 range/azimuth spec, default) | rms (reported x_rms/y_rms)")
     ("reference-channel", po::value<std::string>(), "nuscenes: radar channel that clocks the cycles (default: the forward-facing one)")
     ("channels", po::value<std::string>(), "nuscenes: comma-separated radar channels to use (default: every radar in sensor.json); one "
@@ -96,7 +102,11 @@ AutomotiveRunOptions automotiveOptions(const po::variables_map& vm) {
   if (has("lateral-sigma")) o.front_end.ego_velocity.lateral_sigma = vm["lateral-sigma"].as<double>();
   if (has("ego-model")) o.front_end.ego_velocity.model = parseEgoVelocityModel(vm["ego-model"].as<std::string>());
   o.front_end.remove_moving = !vm["keep-moving"].as<bool>();
+  if (has("mode") && parseAutomotiveMatchMode(vm["mode"].as<std::string>()) == AutomotiveMatchMode::SubmapToSubmap)
+    o.odometry = o.odometry.paper(o.odometry.submap_size);
   if (has("submap")) o.odometry.submap_size = vm["submap"].as<std::size_t>();
+  if (has("map-cycles")) o.odometry.map_cycles = vm["map-cycles"].as<std::size_t>();
+  if (vm["no-fusion"].as<bool>()) o.odometry.fuse_doppler = false;
   o.odometry.gate.enabled = !vm["no-gate"].as<bool>();
   if (has("grid")) o.odometry.grid = vm["grid"].as<double>();
   if (has("max-cycles")) o.max_cycles = vm["max-cycles"].as<std::size_t>();

@@ -147,12 +147,15 @@ int main(int argc, char** argv) {
   // clang-format on
   const std::string usage =
       "Usage: radar_odometry --format nuscenes --dataroot DIR [--scene NAME|all] [--method pw-ndt|pcl-ndt|pcl-icp|doppler|rapp-ndt]\n"
-      "                      [--submap N] [--grid G] [--out traj.txt] [--eval] [--metric 1m|kitti|frame|ate|all] [--json] [--plot out.svg]\n"
+      "                      [--mode cycle-to-map|paper] [--map-cycles M] [--submap N] [--grid G] [--out traj.txt] [--eval]\n"
+      "                      [--metric 1m|kitti|frame|ate|all] [--json] [--plot out.svg]\n"
       "       radar_odometry --format oxford|radiate --sequence DIR... [--method pw-ndt|pcl-ndt|pcl-icp] [--grid G]\n"
       "                      [--threshold T] [--power-shift S] [--points cartesian|polar] [--out traj.txt] [--eval] [--json]\n"
       "                      [--plot out.svg] [--map top.png]\n"
       "nuscenes: one pose per radar cycle (one sweep of every radar, clocked by the reference radar), the\n"
-      "vehicle frame at the reference sweep's timestamp. Unreadable sweeps are reported and left out of their cycle.\n"
+      "vehicle frame at the reference sweep's timestamp; each cycle matched to a local map of the M cycles before it\n"
+      "from the Doppler ego-motion and fused with it (paper mode: submap of N cycles to the last submap, not fused).\n"
+      "Unreadable sweeps are reported and left out of their cycle.\n"
       "oxford|radiate: one pose per scan, the vehicle at the scan's timestamp (the first azimuth's); each scan\n"
       "motion-compensated and matched to the last keyframe from a constant-velocity guess, failures retried with\n"
       "the grid enlarged, then with s halved. Unreadable scans are reported and bridged with the motion model;\n"

@@ -17,6 +17,7 @@
 
 #include "app_common.h"
 #include "pipeline_options.h"
+#include "radar_ndt/evaluation/motion_noise.h"
 #include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/pipeline/automotive_run.h"
@@ -170,35 +171,50 @@ int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const st
 }
 
 
-/// --format nuscenes: the paper's table, rows N, columns ICP / ours / Kellner / Rapp, 1m metric,
-/// mean over scenes; then frame errors, time and fallbacks per method and N.
+/// --format nuscenes: the paper's table, rows N, columns ICP / ours / Kellner / Rapp in the paper's
+/// mode (submap to submap, not fused), 1m metric, mean over scenes; then the same four methods
+/// through the default pipeline as an extra row; then frame errors, ms per cycle by stage and
+/// fallbacks per method and row.
 int runNuScenesTable(const AutomotiveRunOptions& options, const NuScenesDataset& dataset, const std::vector<const NuScenesScene*>& scenes,
                      bool json_out, bool progress_on) {
-  // The paper's Table: rows N, columns ICP / ours / Kellner / Rapp, 1m metric, mean over scenes.
   struct Cell {
-    double trans = 0, rot = 0, frame_t = 0, frame_r = 0, ms = 0, fallback = 0;
+    double trans = 0, rot = 0, ate = 0, frame_t = 0, frame_r = 0, ms = 0, fallback = 0;
+    StageTimes stages;
     int n = 0;
   };
-  const std::vector<std::pair<Method, std::vector<std::size_t>>> plan = {
-      {Method::PclIcp, {1, 3, 5, 10}}, {Method::PwNdt, {1, 3, 5, 10}}, {Method::Doppler, {1}}, {Method::RappNdt, {1}}};
+  constexpr std::size_t kDefault = 0;  // the row of the default pipeline
+  const std::vector<Method> methods = {Method::PclIcp, Method::PwNdt, Method::Doppler, Method::RappNdt};
+  const std::vector<std::pair<Method, std::vector<std::size_t>>> plan = {{Method::PclIcp, {1, 3, 5, 10, kDefault}},
+                                                                         {Method::PwNdt, {1, 3, 5, 10, kDefault}},
+                                                                         {Method::Doppler, {1, kDefault}},
+                                                                         {Method::RappNdt, {1, kDefault}}};
   std::map<std::pair<int, std::size_t>, Cell> cells;
   for (const auto& [method, ns] : plan)
     for (const std::size_t N : ns)
       for (const auto* scene : scenes) {
         AutomotiveRunOptions o = withMethod(options, method);
-        o.odometry.submap_size = N;
-        const AutomotiveRunResult r = runAutomotiveOdometry(dataset, *scene, o, apps::Progress{progress_on, std::string(toString(method)) + " N=" + std::to_string(N)});
+        if (N != kDefault) o.odometry = o.odometry.paper(N);
+        const std::string label = std::string(toString(method)) + (N == kDefault ? " default" : " N=" + std::to_string(N));
+        const AutomotiveRunResult r = runAutomotiveOdometry(dataset, *scene, o, apps::Progress{progress_on, label});
         const PosePairs pairs = associate(r.ground_truth, r.estimate);
-        const EvaluationReport rep = evaluate(pairs, {Metric::OneMeter, Metric::Frame});
+        const EvaluationReport rep = evaluate(pairs, {Metric::OneMeter, Metric::Frame, Metric::Ate});
         Cell& c = cells[{static_cast<int>(method), N}];
         c.trans += rep.one_meter->trans_err_pct;
         c.rot += rep.one_meter->rot_err_deg_per_m;
+        c.ate += rep.ate->rmse_m;
         c.frame_t += rep.frame->trans_err_m;
         c.frame_r += rep.frame->rot_err_deg;
         c.ms += r.median_total_ms;
+        c.stages.read_ms += r.median_ms.read_ms;
+        c.stages.front_end_ms += r.median_ms.front_end_ms;
+        c.stages.submap_ms += r.median_ms.submap_ms;
+        c.stages.match_ms += r.median_ms.match_ms;
         c.fallback += r.counters.cycles ? static_cast<double>(r.counters.fallbacks) / static_cast<double>(r.counters.cycles) : 0.0;
         ++c.n;
       }
+  const AutomotiveOdometryOptions& d = options.odometry;
+  const std::string default_name = std::string(toString(d.mode)) + (d.mode == AutomotiveMatchMode::CycleToMap ? " M=" + std::to_string(d.map_cycles) : " N=" + std::to_string(d.submap_size)) +
+                                   (d.fuse_doppler ? ", fused" : "");
   json j = json::array();
   std::ostringstream md;
   md << "| N | ICP trans % | ICP deg/m | ours trans % | ours deg/m | Kellner trans % | Kellner deg/m | Rapp trans % | Rapp deg/m |\n"
@@ -208,9 +224,9 @@ int runNuScenesTable(const AutomotiveRunOptions& options, const NuScenesDataset&
     std::snprintf(b, sizeof b, "%.*f", prec, v);
     return std::string(b);
   };
-  for (const std::size_t N : {1u, 3u, 5u, 10u}) {
-    md << "| " << N;
-    for (const Method m : {Method::PclIcp, Method::PwNdt, Method::Doppler, Method::RappNdt}) {
+  for (const std::size_t N : {std::size_t{1}, std::size_t{3}, std::size_t{5}, std::size_t{10}, kDefault}) {
+    md << "| " << (N == kDefault ? "default (" + default_name + ")" : std::to_string(N));
+    for (const Method m : methods) {
       const auto it = cells.find({static_cast<int>(m), N});
       if (it == cells.end()) {
         md << " | | ";
@@ -219,22 +235,90 @@ int runNuScenesTable(const AutomotiveRunOptions& options, const NuScenesDataset&
       const Cell& c = it->second;
       const double k = 1.0 / c.n;
       md << " | " << fmt(c.trans * k, 2) << " | " << fmt(c.rot * k, 3);
-      j.push_back({{"method", toString(m)}, {"submap", N}, {"trans_err_pct", c.trans * k}, {"rot_err_deg_per_m", c.rot * k},
-                   {"frame_trans_err_m", c.frame_t * k}, {"frame_rot_err_deg", c.frame_r * k}, {"ms_per_cycle", c.ms * k},
-                   {"fallback_rate", c.fallback * k}, {"scenes", c.n}});
+      json e = {{"method", toString(m)}, {"trans_err_pct", c.trans * k}, {"rot_err_deg_per_m", c.rot * k}, {"ate_m", c.ate * k},
+                {"frame_trans_err_m", c.frame_t * k}, {"frame_rot_err_deg", c.frame_r * k}, {"ms_per_cycle", c.ms * k},
+                {"ms_per_cycle_by_stage", {{"read", c.stages.read_ms * k}, {"front_end", c.stages.front_end_ms * k},
+                                           {"submap", c.stages.submap_ms * k}, {"match", c.stages.match_ms * k}}},
+                {"fallback_rate", c.fallback * k}, {"scenes", c.n}};
+      if (N == kDefault)
+        e["pipeline"] = default_name;
+      else
+        e["submap"] = N;
+      j.push_back(e);
     }
     md << " |\n";
   }
   std::ostringstream detail;
-  detail << "| method | N | frame trans (m) | frame rot (deg) | ms/cycle (median) | fallbacks |\n|---|---|---|---|---|---|\n";
-  for (const auto& e : j)
-    detail << "| " << e["method"].get<std::string>() << " | " << e["submap"].get<std::size_t>() << " | "
-           << fmt(e["frame_trans_err_m"].get<double>(), 4) << " | " << fmt(e["frame_rot_err_deg"].get<double>(), 4) << " | "
-           << fmt(e["ms_per_cycle"].get<double>(), 2) << " | " << fmt(100.0 * e["fallback_rate"].get<double>(), 1) << " % |\n";
+  detail << "| method | row | ATE (m) | frame trans (m) | frame rot (deg) | ms/cycle (median) | read | front-end | submap | match | fallbacks |\n"
+         << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& e : j) {
+    const json& st = e["ms_per_cycle_by_stage"];
+    detail << "| " << e["method"].get<std::string>() << " | " << (e.contains("submap") ? "N=" + std::to_string(e["submap"].get<std::size_t>()) : "default")
+           << " | " << fmt(e["ate_m"].get<double>(), 3) << " | " << fmt(e["frame_trans_err_m"].get<double>(), 4) << " | "
+           << fmt(e["frame_rot_err_deg"].get<double>(), 4) << " | " << fmt(e["ms_per_cycle"].get<double>(), 2) << " | "
+           << fmt(st["read"].get<double>(), 2) << " | " << fmt(st["front_end"].get<double>(), 2) << " | " << fmt(st["submap"].get<double>(), 3)
+           << " | " << fmt(st["match"].get<double>(), 2) << " | " << fmt(100.0 * e["fallback_rate"].get<double>(), 1) << " % |\n";
+  }
   if (json_out)
     std::cout << json{{"table", j}}.dump(2) << std::endl;
   else
     std::cout << md.str() << "\n" << detail.str();
+  return 0;
+}
+
+/// --noise-calibration (nuscenes): the fusion's covariances calibrated on every scene, and checked
+/// leaving each scene out in turn (calibrated on the others, mean NEES on it; 3 is calibrated).
+int runNoiseCalibration(const AutomotiveRunOptions& options, const NuScenesDataset& dataset, const std::vector<const NuScenesScene*>& scenes,
+                        bool json_out, bool progress_on) {
+  std::vector<std::vector<MotionNoiseSample>> per_scene;
+  std::vector<AutomotiveRunResult> runs;
+  for (const auto* scene : scenes) {
+    runs.push_back(runAutomotiveOdometry(dataset, *scene, options, apps::Progress{progress_on, scene->name}));
+    per_scene.push_back(motionNoiseSamples(runs.back()));
+  }
+  auto all_but = [&](std::size_t skip) {
+    std::vector<MotionNoiseSample> v;
+    for (std::size_t i = 0; i < per_scene.size(); ++i)
+      if (i != skip) v.insert(v.end(), per_scene[i].begin(), per_scene[i].end());
+    return v;
+  };
+  const MotionNoiseCalibration all = calibrateMotionNoise(all_but(per_scene.size()));
+  auto cal_json = [](const MotionNoiseCalibration& c) {
+    return json{{"doppler_sigma_x", c.doppler_sigma_x}, {"doppler_sigma_y", c.doppler_sigma_y}, {"doppler_sigma_yaw", c.doppler_sigma_yaw},
+                {"match_covariance_scale", c.match_covariance_scale}, {"match_sigma_x", c.match_sigma_x}, {"match_sigma_y", c.match_sigma_y},
+                {"match_sigma_yaw", c.match_sigma_yaw}, {"doppler_samples", c.doppler_samples}, {"match_samples", c.match_samples}};
+  };
+  json out = {{"method", toString(options.matcher.method)}, {"calibrated_on_all", cal_json(all)}, {"leave_one_out", json::array()}};
+  std::ostringstream md;
+  char b[256];
+  std::snprintf(b, sizeof b, "calibrated on all %zu scenes (%s): Doppler σ %.4f m/s, %.4f m/s, %.5f rad/s; match covariance x %.3f; "
+                "match σ %.4f m, %.4f m, %.5f rad\n\n", scenes.size(), toString(options.matcher.method), all.doppler_sigma_x,
+                all.doppler_sigma_y, all.doppler_sigma_yaw, all.match_covariance_scale, all.match_sigma_x, all.match_sigma_y, all.match_sigma_yaw);
+  md << b << "| left out | Doppler NEES | match NEES | cycles | matches | 1m % (defaults → left-out calibration) | deg/m | ATE m |\n"
+     << "|---|---|---|---|---|---|---|---|\n";
+  for (std::size_t i = 0; i < per_scene.size(); ++i) {
+    const MotionNoiseCalibration c = calibrateMotionNoise(all_but(i));
+    const MotionNees nees = motionNees(per_scene[i], c.applyTo(options.odometry.fusion));
+    // The scene run again with the covariances calibrated without it, against the defaults' run.
+    const EvaluationReport before = evaluate(associate(runs[i].ground_truth, runs[i].estimate), {Metric::OneMeter, Metric::Ate});
+    AutomotiveRunOptions o = options;
+    o.odometry.fusion = c.applyTo(options.odometry.fusion);
+    const AutomotiveRunResult rerun = runAutomotiveOdometry(dataset, *scenes[i], o);
+    const EvaluationReport after = evaluate(associate(rerun.ground_truth, rerun.estimate), {Metric::OneMeter, Metric::Ate});
+    std::snprintf(b, sizeof b, "| %s | %.2f | %.2f | %zu | %zu | %.3f → %.3f | %.4f → %.4f | %.3f → %.3f |\n", scenes[i]->name.c_str(),
+                  nees.doppler, nees.match, nees.doppler_samples, nees.match_samples, before.one_meter->trans_err_pct,
+                  after.one_meter->trans_err_pct, before.one_meter->rot_err_deg_per_m, after.one_meter->rot_err_deg_per_m, before.ate->rmse_m,
+                  after.ate->rmse_m);
+    md << b;
+    out["leave_one_out"].push_back({{"scene", scenes[i]->name}, {"calibration", cal_json(c)}, {"doppler_nees", nees.doppler},
+                                    {"match_nees", nees.match}, {"doppler_samples", nees.doppler_samples}, {"match_samples", nees.match_samples},
+                                    {"defaults", {{"trans_err_pct", before.one_meter->trans_err_pct}, {"rot_err_deg_per_m", before.one_meter->rot_err_deg_per_m}, {"ate_m", before.ate->rmse_m}}},
+                                    {"left_out_calibration", {{"trans_err_pct", after.one_meter->trans_err_pct}, {"rot_err_deg_per_m", after.one_meter->rot_err_deg_per_m}, {"ate_m", after.ate->rmse_m}}}});
+  }
+  if (json_out)
+    std::cout << out.dump(2) << std::endl;
+  else
+    std::cout << md.str();
   return 0;
 }
 
@@ -247,15 +331,19 @@ int main(int argc, char** argv) {
   // clang-format off
   opts.add_options()
     ("json", po::bool_switch(), "print the table as JSON")
+    ("noise-calibration", po::bool_switch(), "nuscenes: instead of the table, calibrate the fusion's covariances on every scene with "
+                                             "--method (default ours) and check them leaving each scene out (mean NEES)")
     ("sweep-scans", po::value<std::size_t>()->default_value(400), "oxford: scans of the first sequence the PCL grid sweep is scored on "
                                                                   "(--max-cycles caps every other run)");
   // clang-format on
   const std::string usage =
-      "Usage: radar_paper_tables --format nuscenes --dataroot DIR [--scene NAME|all] [pipeline options] [--json]\n"
+      "Usage: radar_paper_tables --format nuscenes --dataroot DIR [--scene NAME|all] [--noise-calibration] [pipeline options] [--json]\n"
       "       radar_paper_tables --format oxford --sequence DIR... [--max-cycles N] [--sweep-scans N] [pipeline options] [--json]\n"
       "nuscenes: the paper's nuScenes table on every scene: N = 1, 3, 5, 10 for pcl-icp and pw-ndt, N = 1 for doppler and\n"
-      "rapp-ndt; 1m metric, mean over scenes. oxford: on every --sequence (with ground truth), ours vs PCL's NDT and ICP\n"
-      "(documented settings and the best of a grid sweep) and the paper's ablations; KITTI metric. --method is ignored.";
+      "rapp-ndt, in the paper's mode (submap to submap); then the four through the default pipeline; 1m metric, mean over\n"
+      "scenes. --noise-calibration: the fusion's covariances calibrated with --method on every scene and checked leaving each\n"
+      "scene out. oxford: on every --sequence (with ground truth), ours vs PCL's NDT and ICP (documented settings and the best\n"
+      "of a grid sweep) and the paper's ablations; KITTI metric. --method is ignored but by --noise-calibration.";
   po::variables_map vm;
   const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
   if (rc >= 0) return rc;
@@ -268,6 +356,7 @@ int main(int argc, char** argv) {
                               vm["sweep-scans"].as<std::size_t>(), json_out, progress_on);
     const AutomotiveRunOptions options = apps::automotiveOptions(vm);
     const NuScenesDataset dataset = apps::openDataset(vm);
+    if (vm["noise-calibration"].as<bool>()) return runNoiseCalibration(options, dataset, apps::selectScenes(dataset, vm), json_out, progress_on);
     return runNuScenesTable(options, dataset, apps::selectScenes(dataset, vm), json_out, progress_on);
   });
 }

@@ -117,7 +117,9 @@ TEST_P(MethodsOnSimulatedSequences, ErrorWithinItsBoundAndFailuresCounted) {
     ASSERT_EQ(r.estimate.size(), 130u);
     EXPECT_TRUE(r.problems.empty());
     expectCountsAddUp(r.steps, r.counters);
-    if (c.method == Method::Doppler) EXPECT_EQ(r.counters.dead_reckoned, 129u) << "no matcher: every cycle is the Doppler integral";
+    if (c.method == Method::Doppler) {
+      EXPECT_EQ(r.counters.dead_reckoned, 129u) << "no matcher: every cycle is the Doppler integral";
+    }
     frame = *evaluate(associate(r.ground_truth, r.estimate), {Metric::Frame}).frame;
     fallbacks = r.counters.fallbacks;
   }
@@ -128,14 +130,18 @@ TEST_P(MethodsOnSimulatedSequences, ErrorWithinItsBoundAndFailuresCounted) {
 }
 
 // Bounds: about 1.5x what each method measured here (the test prints its figures; docs/testing.md
-// keeps them), so that a matcher that stopped working fails while noise cannot.
+// keeps them), so that a matcher that stopped working fails while noise cannot. The automotive rows
+// run the default pipeline (cycle to map, fused with the Doppler motion, whose covariances are
+// calibrated on real scenes): the simulator's Doppler is far cleaner than real radars', so here the
+// Doppler integral is the most accurate row; what the match adds is tested on real scenes
+// (test_automotive_pipeline).
 INSTANTIATE_TEST_SUITE_P(EveryMethod, MethodsOnSimulatedSequences,
                          ::testing::Values(MethodCase{Pipeline::Scanning, Method::PwNdt, 0.025, 0.07, 1},
                                            MethodCase{Pipeline::Scanning, Method::PclNdt, 0.065, 0.11, 1},
                                            MethodCase{Pipeline::Scanning, Method::PclIcp, 0.19, 0.31, 1},
-                                           MethodCase{Pipeline::Automotive, Method::PwNdt, 0.011, 0.037, 1},
-                                           MethodCase{Pipeline::Automotive, Method::PclNdt, 0.05, 0.08, 3},
-                                           MethodCase{Pipeline::Automotive, Method::PclIcp, 0.028, 0.048, 1},
+                                           MethodCase{Pipeline::Automotive, Method::PwNdt, 0.004, 0.068, 2},
+                                           MethodCase{Pipeline::Automotive, Method::PclNdt, 0.008, 0.068, 3},
+                                           MethodCase{Pipeline::Automotive, Method::PclIcp, 0.004, 0.073, 8},
                                            MethodCase{Pipeline::Automotive, Method::Doppler, 0.0015, 0.038, 0}),
                          caseName);
 

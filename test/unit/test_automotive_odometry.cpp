@@ -31,6 +31,19 @@ class JumpingMatcher : public RadarRegistration {
   }
 };
 
+/// A matcher that "converges" at its initial guess: one that adds no information.
+class GuessMatcher : public RadarRegistration {
+ public:
+  GuessMatcher() { reg_name_ = "GuessMatcher"; }
+
+ protected:
+  void computeTransformation(PointCloudSource& output, const Eigen::Matrix4f& guess) override {
+    final_transformation_ = guess;
+    pcl::transformPointCloud(*input_, output, final_transformation_);
+    converged_ = true;
+  }
+};
+
 ProcessedCycle constantCycle(std::int64_t t_us, const Eigen::Vector3d& v) {
   ProcessedCycle c;
   c.timestamp_us = t_us;
@@ -59,12 +72,57 @@ TEST(AutomotiveOdometry, ImplausibleMatchesAreRetriedThenFallBackToDoppler) {
   EXPECT_EQ(last.status, StepStatus::Fallback);
   EXPECT_NEAR(last.pose.x(), 4 * 0.75, 1e-9);  // the Doppler integral, not the jumps
   EXPECT_NEAR(last.pose.y(), 0.0, 1e-9);
-  // Without the gate the jumps are accepted (what plain submap matching does).
+  // Without the gate the jumps are accepted: in the paper's mode they are the motion (what plain
+  // submap matching does); fused, each pulls the motion part of the way, by the covariances.
   o.gate.enabled = false;
-  AutomotiveOdometry ungated(o, pcl::make_shared<JumpingMatcher>());
+  AutomotiveOdometry ungated(o.paper(3), pcl::make_shared<JumpingMatcher>());
   for (int k = 0; k < 5; ++k) ungated.add(constantCycle(k * 75000, v));
   EXPECT_EQ(ungated.counters().fallbacks, 0u);
   EXPECT_NEAR(ungated.steps().back().pose.y(), 8.0, 1e-4);
+  AutomotiveOdometry fused(o, pcl::make_shared<JumpingMatcher>());
+  for (int k = 0; k < 5; ++k) fused.add(constantCycle(k * 75000, v));
+  EXPECT_EQ(fused.counters().fallbacks, 0u);
+  EXPECT_GT(fused.steps().back().pose.y(), 0.01);
+  EXPECT_LT(fused.steps().back().pose.y(), 1.0);
+}
+
+TEST(AutomotiveOdometry, AGuessReturningMatcherAddsNothingToTheDopplerIntegral) {
+  // In either mode: the fusion sees no innovation, learns no bias, and the poses are the Doppler
+  // integral's (up to the float guess the PCL interface carries).
+  const Eigen::Vector3d v(8.0, 0.2, 0.05);
+  for (const bool paper : {false, true}) {
+    AutomotiveOdometryOptions o;
+    if (paper) o = o.paper(3);
+    AutomotiveOdometry matched(o, pcl::make_shared<GuessMatcher>());
+    AutomotiveOdometry doppler(o, nullptr);
+    for (int k = 0; k < 20; ++k) {
+      matched.add(constantCycle(k * 75000, v));
+      doppler.add(constantCycle(k * 75000, v));
+    }
+    EXPECT_EQ(matched.counters().matched, 19u);
+    EXPECT_TRUE(matched.steps().back().pose.isApprox(doppler.steps().back().pose, 1e-6)) << (paper ? "paper" : "default");
+    EXPECT_NEAR(matched.steps().back().yaw_rate_bias, 0.0, 1e-6);
+  }
+}
+
+TEST(AutomotiveOdometry, CycleToMapMatchesTheNewCycleAgainstEarlierCyclesOnly) {
+  // The source is the newest cycle alone (50 points), the target the earlier ones in the map.
+  AutomotiveOdometryOptions o;
+  o.map_cycles = 4;
+  AutomotiveOdometry odo(o, pcl::make_shared<GuessMatcher>());
+  for (int k = 0; k < 8; ++k) odo.add(constantCycle(k * 75000, Eigen::Vector3d(8.0, 0.0, 0.0)));
+  EXPECT_EQ(odo.steps()[1].source_points, 50u);
+  EXPECT_EQ(odo.steps()[1].target_points, 50u);
+  EXPECT_EQ(odo.steps()[3].target_points, 150u);
+  EXPECT_EQ(odo.steps()[7].target_points, 200u) << "at most M = 4 cycles";
+  // The paper's mode: submap (N = 3 cycles) to submap.
+  AutomotiveOdometry paper(o.paper(3), pcl::make_shared<GuessMatcher>());
+  for (int k = 0; k < 8; ++k) paper.add(constantCycle(k * 75000, Eigen::Vector3d(8.0, 0.0, 0.0)));
+  EXPECT_EQ(paper.steps()[7].source_points, 150u);
+  EXPECT_EQ(paper.steps()[7].target_points, 150u);
+  EXPECT_THROW(parseAutomotiveMatchMode("scan-to-scan"), std::invalid_argument);
+  EXPECT_EQ(parseAutomotiveMatchMode("paper"), AutomotiveMatchMode::SubmapToSubmap);
+  EXPECT_EQ(parseAutomotiveMatchMode(toString(AutomotiveMatchMode::CycleToMap)), AutomotiveMatchMode::CycleToMap);
 }
 
 TEST(AutomotiveOdometry, DopplerDeadReckoningAndSkippedDuplicateTimestamps) {

@@ -11,19 +11,45 @@ namespace radar_ndt {
 
 using detail::msSince;
 
+AutomotiveMatchMode parseAutomotiveMatchMode(const std::string& name) {
+  if (name == "cycle-to-map") return AutomotiveMatchMode::CycleToMap;
+  if (name == "submap-to-submap" || name == "paper") return AutomotiveMatchMode::SubmapToSubmap;
+  throw std::invalid_argument("unknown automotive match mode '" + name + "' (cycle-to-map, submap-to-submap or paper)");
+}
+
+const char* toString(AutomotiveMatchMode mode) {
+  return mode == AutomotiveMatchMode::CycleToMap ? "cycle-to-map" : "submap-to-submap";
+}
+
+AutomotiveOdometryOptions AutomotiveOdometryOptions::paper(std::size_t n) const {
+  AutomotiveOdometryOptions o = *this;
+  o.mode = AutomotiveMatchMode::SubmapToSubmap;
+  o.submap_size = n;
+  o.fuse_doppler = false;
+  return o;
+}
+
 void AutomotiveOdometryOptions::validate() const {
   auto fail = [](const std::string& what) { throw std::invalid_argument("AutomotiveOdometryOptions: " + what); };
   if (submap_size < 1) fail("submap_size must be >= 1");
+  if (map_cycles < 1) fail("map_cycles must be >= 1");
   if (!(grid > 0) || !std::isfinite(grid)) fail("grid must be > 0, got " + std::to_string(grid));
   if (!(grid_step >= 0) || !std::isfinite(grid_step)) fail("grid_step must be >= 0");
   if (max_retries < 0) fail("max_retries must be >= 0");
   if (!(stale_velocity_sigma >= 0)) fail("stale_velocity_sigma must be >= 0");
   if (!(doppler_weight_sigma > 0)) fail("doppler_weight_sigma must be > 0");
   gate.validate();
+  fusion.validate();
 }
 
 AutomotiveOdometry::AutomotiveOdometry(const AutomotiveOdometryOptions& options, MatcherAdapter matcher)
-    : options_(options), matcher_(std::move(matcher)), gate_(options.gate), submap_(options.submap_size) {
+    : options_(options),
+      matcher_(std::move(matcher)),
+      gate_(options.gate),
+      // CycleToMap needs the submap only to integrate the Doppler motion: one cycle is enough.
+      submap_(options.mode == AutomotiveMatchMode::CycleToMap ? 1 : options.submap_size),
+      map_(options.map_cycles),
+      fusion_(options.fusion) {
   options_.validate();
 }
 
@@ -55,37 +81,63 @@ const OdometryStep& AutomotiveOdometry::add(const ProcessedCycle& cycle) {
   step.velocity_valid = cycle.ego.valid;
   const EgoVelocity ego = egoVelocityOf(cycle);
   const double dt = prev ? 1e-6 * static_cast<double>(cycle.timestamp_us - prev->timestamp_us) : 0.0;
+  const bool to_map = options_.mode == AutomotiveMatchMode::CycleToMap;
   const auto t0 = detail::Clock::now();
   submap_.add(*cycle.cloud, ego.velocity, ego.covariance, dt);
-  pcl::PointCloud<PointRadar>::Ptr source = submap_.cloud();
+  const pcl::PointCloud<PointRadar>::Ptr submap = submap_.cloud();
   step.submap_ms = msSince(t0);
 
   if (!prev) {
     step.status = StepStatus::First;
-    target_ = source;
+    target_ = submap;
+    map_.clear();
+    map_.add(*cycle.cloud);
+    fusion_.reset();
     return log_.add(step);
   }
 
-  const Pose2 guess = submap_.lastMotion();
-  step.doppler_motion = guess;
+  // The Doppler motion and, fused, its bias-corrected prediction: the matcher's initial guess.
+  step.doppler_motion = submap_.lastMotion();
+  step.doppler_covariance = submap_.lastMotionCovariance();
+  MotionEstimate prior{step.doppler_motion, step.doppler_covariance};
+  if (options_.fuse_doppler) prior = fusion_.predict(step.doppler_motion, step.doppler_covariance, dt);
+
+  // CycleToMap: the new cycle alone against the local map; SubmapToSubmap: submap to submap.
+  pcl::PointCloud<PointRadar>::Ptr source = to_map ? pcl::PointCloud<PointRadar>::Ptr(new pcl::PointCloud<PointRadar>(*cycle.cloud)) : submap;
+  pcl::PointCloud<PointRadar>::Ptr target = to_map ? map_.cloud() : target_;
   step.source_points = source->size();
-  step.target_points = target_ ? target_->size() : 0;
-  Pose2 motion = guess;
+  step.target_points = target ? target->size() : 0;
+  MotionEstimate estimate = prior;
   if (!matcher_ || step.source_points < options_.min_points || step.target_points < options_.min_points) {
     step.status = StepStatus::DeadReckoned;
     ++log_.counters().dead_reckoned;
   } else {
-    motion = matchWithRetries(cycle, source, guess, submap_.lastMotionCovariance(), dt, step);
+    const Pose2 match = matchWithRetries(cycle, source, target, prior.motion, prior.covariance, dt, step);
+    if (step.status == StepStatus::Matched || step.status == StepStatus::Retried) {
+      step.match_motion = match;
+      step.match_covariance = matcher_.poseCovariance();
+      if (options_.fuse_doppler) {
+        estimate = fusion_.update(match, fusion_.matchCovariance(matcher_.hasPoseCovariance() ? &step.match_covariance : nullptr));
+      } else {
+        estimate.motion = match;
+      }
+    }
   }
-  step.motion = motion;
-  step.pose = compose(prev->pose, motion);
-  motion_model_.update(motion, dt);
-  target_ = source;
+  step.yaw_rate_bias = fusion_.yawRateBias();
+  step.motion = estimate.motion;
+  step.pose = compose(prev->pose, estimate.motion);
+  motion_model_.update(estimate.motion, dt);
+  target_ = submap;
+  if (to_map) {
+    map_.advance(estimate.motion, estimate.covariance);
+    map_.add(*cycle.cloud);
+  }
   return log_.add(step);
 }
 
 Pose2 AutomotiveOdometry::matchWithRetries(const ProcessedCycle& cycle, const pcl::PointCloud<PointRadar>::Ptr& source,
-                                           const Pose2& guess, const Eigen::Matrix3d& guess_cov, double dt, OdometryStep& step) {
+                                           const pcl::PointCloud<PointRadar>::Ptr& target, const Pose2& guess,
+                                           const Eigen::Matrix3d& guess_cov, double dt, OdometryStep& step) {
   const auto t0 = detail::Clock::now();
   RadarRegistration& matcher = matcher_.registration();
   Pose2 motion = guess;
@@ -93,7 +145,7 @@ Pose2 AutomotiveOdometry::matchWithRetries(const ProcessedCycle& cycle, const pc
   for (int attempt = 0; attempt <= options_.max_retries && !ok; ++attempt) {
     const double g = options_.grid + options_.grid_step * attempt;
     if (attempt == 0)
-      matcher.setInputTarget(target_);  // builds the target model at the nominal grid
+      matcher.setInputTarget(target);  // builds the target model at the nominal grid
     else
       matcher_.setGrid(g);  // rebuilds it, enlarged
     Pose2 estimate = guess;

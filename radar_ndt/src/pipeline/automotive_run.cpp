@@ -26,15 +26,37 @@ AutomotiveRunOptions withMethod(AutomotiveRunOptions options, Method method) {
   options.matcher.method = method;
   options.odometry.doppler_weights = method == Method::RappNdt;
   if (method == Method::RappNdt) options.front_end.remove_moving = false;
+  // The fusion's match covariance per matcher, calibrated on the shared nuScenes scenes
+  // (radar_paper_tables --noise-calibration; docs/automotive_pipeline.md): ours reports one, which
+  // Rapp's weights make less optimistic; PCL's matchers report none.
+  MotionFusionOptions& f = options.odometry.fusion;
+  if (method == Method::RappNdt) f.match_covariance_scale = 1.16;
+  if (method == Method::PclNdt) {
+    f.match_sigma_x = 0.040;
+    f.match_sigma_y = 0.046;
+    f.match_sigma_yaw = 0.0017;
+  }
+  if (method == Method::PclIcp) {
+    f.match_sigma_x = 0.074;
+    f.match_sigma_y = 0.071;
+    f.match_sigma_yaw = 0.0021;
+  }
   return options;
 }
 
 AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene, const AutomotiveRunOptions& options,
                                           const std::function<void(std::size_t, std::size_t)>& progress) {
   options.validate();
+  return runAutomotiveOdometry(dataset, scene, options, makeMatcher(options.matcher, options.odometry.grid), progress);
+}
+
+AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene, const AutomotiveRunOptions& options,
+                                          MatcherAdapter matcher, const std::function<void(std::size_t, std::size_t)>& progress) {
+  options.validate();
   const NuScenesRadarSequence sequence(dataset, scene, options.sequence);
   const AutomotiveFrontEnd front_end(options.front_end);
-  AutomotiveOdometry odometry(options.odometry, makeMatcher(options.matcher, options.odometry.grid));
+  if (matcher) matcher.setGrid(options.odometry.grid);
+  AutomotiveOdometry odometry(options.odometry, std::move(matcher));
 
   AutomotiveRunResult result;
   result.scene = scene.name;

@@ -1,13 +1,21 @@
 #pragma once
-// radar_ndt::AutomotiveOdometry: the paper's automotive pipeline after the front-end (Sec. III-B,
-// IV-A). At each cycle the probabilistic submap of cycles k−N+1..k is matched to the submap of
-// cycles k−N..k−1, starting from the Doppler ego-velocity integral. A match that does not
-// converge, or that the motion gate refuses (an acceleration above the motion prior beyond what
-// matching noise explains, or disagreement with the Doppler ego-motion), is retried with the grid
-// enlarged; if every attempt fails, the cycle falls back to the ego-velocity integral. Any
-// pcl::Registration<PointRadar, PointRadar> can be the matcher (MatcherAdapter).
+// radar_ndt::AutomotiveOdometry: the automotive pipeline after the front-end, in one of two modes.
+//  - SubmapToSubmap, the paper's (Sec. III-B, IV-A): at each cycle the probabilistic submap of
+//    cycles k−N+1..k is matched to the submap of cycles k−N..k−1, starting from the Doppler
+//    ego-velocity integral. The N−1 cycles the two share are the same points placed by that
+//    integral, so the match stays close to it.
+//  - CycleToMap (the default, beyond the paper): the newest cycle is matched to a local map of the
+//    M cycles before it, placed by the estimated motions, and the match is fused with the Doppler
+//    motion (MotionFusion: a Kalman update that also tracks the Doppler yaw-rate bias). The match
+//    shares no points with its target, so it is a measurement of its own.
+// A match that does not converge, or that the motion gate refuses (an acceleration above the
+// motion prior beyond what matching noise explains, or disagreement with the Doppler ego-motion),
+// is retried with the grid enlarged; if every attempt fails, the cycle takes the Doppler motion
+// (CycleToMap: the bias-corrected prediction). Any pcl::Registration<PointRadar, PointRadar> can be
+// the matcher (MatcherAdapter).
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -15,7 +23,9 @@
 #include "radar_ndt/frontend/probabilistic_submap.h"
 #include "radar_ndt/frontend/radar_cycle.h"
 #include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/odometry/local_map.h"
 #include "radar_ndt/odometry/matcher.h"
+#include "radar_ndt/odometry/motion_fusion.h"
 #include "radar_ndt/odometry/motion_gate.h"
 #include "radar_ndt/odometry/motion_model.h"
 #include "radar_ndt/odometry/odometry_step.h"
@@ -23,8 +33,23 @@
 
 namespace radar_ndt {
 
+enum class AutomotiveMatchMode {
+  SubmapToSubmap,  ///< the paper's: submap of cycles k−N+1..k to submap k−N..k−1
+  CycleToMap,      ///< the newest cycle to the local map of the M cycles before it
+};
+/// "submap-to-submap" (also "paper"), "cycle-to-map"; throws std::invalid_argument otherwise.
+AutomotiveMatchMode parseAutomotiveMatchMode(const std::string& name);
+const char* toString(AutomotiveMatchMode mode);
+
 struct AutomotiveOdometryOptions {
-  std::size_t submap_size = 3;   ///< N cycles a submap
+  AutomotiveMatchMode mode = AutomotiveMatchMode::CycleToMap;
+  /// N cycles a submap (SubmapToSubmap; CycleToMap matches one cycle and ignores it).
+  std::size_t submap_size = 3;
+  std::size_t map_cycles = 10;  ///< M cycles in the local map (CycleToMap)
+  /// Fuse the accepted match with the Doppler motion (MotionFusion). Off, the match is the motion,
+  /// as in the paper.
+  bool fuse_doppler = true;
+  MotionFusionOptions fusion;
   double grid = 3.0;             ///< g (m), the paper's nuScenes value
   double grid_step = 2.0;        ///< added to g at each retry
   int max_retries = 4;
@@ -40,6 +65,8 @@ struct AutomotiveOdometryOptions {
   int doppler_weight_rounds = 2;
   /// Throws std::invalid_argument naming the first setting out of range.
   void validate() const;
+  /// These options in the paper's configuration: SubmapToSubmap with N = `n`, no fusion.
+  AutomotiveOdometryOptions paper(std::size_t n) const;
 };
 
 class AutomotiveOdometry {
@@ -58,6 +85,7 @@ class AutomotiveOdometry {
   const std::vector<OdometryStep>& steps() const { return log_.steps(); }
   const OdometryCounters& counters() const { return log_.counters(); }
   const AutomotiveOdometryOptions& options() const { return options_; }
+
   /// Poses of all non-skipped steps (bridged ones included), stamps in seconds.
   Trajectory trajectory() const { return log_.trajectory(); }
 
@@ -66,18 +94,21 @@ class AutomotiveOdometry {
   EgoVelocity egoVelocityOf(const ProcessedCycle& cycle);
   /// Match `source` to the last submap from `guess`, retrying with larger grids; the accepted
   /// motion, or the guess after a fallback (step's status, attempts, grid and χ² set).
-  Pose2 matchWithRetries(const ProcessedCycle& cycle, const pcl::PointCloud<PointRadar>::Ptr& source, const Pose2& guess,
-                         const Eigen::Matrix3d& guess_cov, double dt, OdometryStep& step);
+  Pose2 matchWithRetries(const ProcessedCycle& cycle, const pcl::PointCloud<PointRadar>::Ptr& source,
+                         const pcl::PointCloud<PointRadar>::Ptr& target, const Pose2& guess, const Eigen::Matrix3d& guess_cov,
+                         double dt, OdometryStep& step);
   void weightByDoppler(pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings, const Pose2& motion,
                        double dt) const;
 
   AutomotiveOdometryOptions options_;
   MatcherAdapter matcher_;
   AutomotiveMotionGate gate_;
-  ProbabilisticSubmap submap_;
+  ProbabilisticSubmap submap_;  ///< the paper's submap; also integrates the Doppler motion
+  LocalMap map_;                ///< CycleToMap's target
+  MotionFusion fusion_;
   ConstantVelocityModel motion_model_;
   StepLog log_;
-  pcl::PointCloud<PointRadar>::Ptr target_;  ///< the last submap
+  pcl::PointCloud<PointRadar>::Ptr target_;  ///< the last submap (SubmapToSubmap)
   pcl::PointCloud<PointRadar> aligned_;      ///< the matcher's output (unused; kept to reuse its memory)
   EgoVelocity last_velocity_;
   bool have_velocity_ = false;

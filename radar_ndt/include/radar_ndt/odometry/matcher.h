@@ -13,6 +13,7 @@
 #include <type_traits>
 #include <utility>
 
+#include <Eigen/Core>
 #include <pcl/registration/registration.h>
 
 #include "radar_ndt/point_types.h"
@@ -45,6 +46,10 @@ template <typename R, typename = void>
 struct HasResolution : std::false_type {};
 template <typename R>
 struct HasResolution<R, std::void_t<decltype(std::declval<R&>().setResolution(1.f))>> : std::true_type {};
+template <typename R, typename = void>
+struct HasPoseCovariance : std::false_type {};
+template <typename R>
+struct HasPoseCovariance<R, std::void_t<decltype(Eigen::Matrix3d(std::declval<R&>().getPoseCovariance()))>> : std::true_type {};
 template <typename R, typename = void>
 struct HasTransformationLikelihood : std::false_type {};
 template <typename R>
@@ -90,6 +95,7 @@ class MatcherAdapter {
     } else if constexpr (detail::HasTransformationProbability<R>::value) {
       score_ = [r] { return r->getTransformationProbability(); };
     }
+    if constexpr (detail::HasPoseCovariance<R>::value) pose_covariance_ = [r] { return Eigen::Matrix3d(r->getPoseCovariance()); };
   }
 
   explicit operator bool() const { return static_cast<bool>(registration_); }
@@ -112,6 +118,12 @@ class MatcherAdapter {
   /// sequence (a scan that fits its target nowhere, e.g. all noise, scores a fraction of the
   /// usual); NaN for other matchers.
   double fitPerPoint() const { return fit_per_point_ ? fit_per_point_() : std::numeric_limits<double>::quiet_NaN(); }
+  /// Whether the matcher reports the covariance of its (x, y, yaw) estimate (ours does).
+  bool hasPoseCovariance() const { return static_cast<bool>(pose_covariance_); }
+  /// The last align()'s pose covariance as the matcher reports it; NaN for a matcher without one.
+  Eigen::Matrix3d poseCovariance() const {
+    return pose_covariance_ ? pose_covariance_() : Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  }
 
  private:
   RadarRegistration::Ptr registration_;
@@ -119,6 +131,7 @@ class MatcherAdapter {
   std::function<void(float, bool)> set_power_shift_;
   std::function<double()> score_;
   std::function<double()> fit_per_point_;
+  std::function<Eigen::Matrix3d()> pose_covariance_;
 };
 
 /// The settings each method is built with (the grid comes from the odometry's options).

@@ -3,6 +3,7 @@
 // they share: skipped and bridged steps, the last processed step, the trajectory.
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -38,6 +39,13 @@ struct OdometryStep {
   double chi2 = 0;             ///< of the accepted (or last) match against the Doppler motion
   double submap_ms = 0;
   bool velocity_valid = true;  ///< the cycle had its own ego-velocity (not the last one reused)
+  /// The accepted match before it was fused with the Doppler motion (zero without one).
+  Pose2 match_motion = Pose2::Zero();
+  /// Covariances as their sources report them, before calibration: the ego-velocity fit's motion
+  /// covariance, and the matcher's pose covariance (NaN for a matcher without one, or no match).
+  Eigen::Matrix3d doppler_covariance = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d match_covariance = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  double yaw_rate_bias = 0;  ///< the fusion's Doppler yaw-rate bias estimate after this cycle (rad/s)
   // Scanning only:
   float power_shift = 0;         ///< s of the accepted (or last) attempt
   int compensation_rounds = 0;   ///< matches run with motion-compensated points, all attempts

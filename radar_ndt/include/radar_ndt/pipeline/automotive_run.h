@@ -55,6 +55,13 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
                                           const AutomotiveRunOptions& options,
                                           const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
 
+/// The same with a matcher of the caller's (any pcl::Registration<PointRadar, PointRadar>, set up
+/// as the caller wants but for its grid, set to options.odometry.grid: NDT cell size, or ICP's
+/// maximum correspondence distance); `options.matcher` is not used.
+AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
+                                          const AutomotiveRunOptions& options, MatcherAdapter matcher,
+                                          const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
+
 /// The settings a method runs with: Rapp's joint-Doppler NDT keeps moving detections and weights
 /// points by Doppler agreement instead.
 AutomotiveRunOptions withMethod(AutomotiveRunOptions options, Method method);

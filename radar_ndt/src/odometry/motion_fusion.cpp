@@ -1,0 +1,86 @@
+#include "radar_ndt/odometry/motion_fusion.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+namespace radar_ndt {
+
+void MotionFusionOptions::validate() const {
+  auto check = [](double v, const char* name, bool positive) {
+    if (!std::isfinite(v) || v < 0 || (positive && v == 0))
+      throw std::invalid_argument(std::string("MotionFusionOptions: ") + name + (positive ? " must be > 0" : " must be >= 0") +
+                                  ", got " + std::to_string(v));
+  };
+  check(doppler_sigma_x, "doppler_sigma_x", true);
+  check(doppler_sigma_y, "doppler_sigma_y", true);
+  check(doppler_sigma_yaw, "doppler_sigma_yaw", true);
+  check(match_covariance_scale, "match_covariance_scale", true);
+  check(match_sigma_x, "match_sigma_x", true);
+  check(match_sigma_y, "match_sigma_y", true);
+  check(match_sigma_yaw, "match_sigma_yaw", true);
+  check(yaw_rate_bias_sigma, "yaw_rate_bias_sigma", false);
+  check(yaw_rate_bias_walk, "yaw_rate_bias_walk", false);
+}
+
+MotionFusion::MotionFusion(const MotionFusionOptions& options) : options_(options) {
+  options_.validate();
+  reset();
+}
+
+void MotionFusion::reset() {
+  bias_ = 0;
+  bias_var_ = options_.yaw_rate_bias_sigma * options_.yaw_rate_bias_sigma;
+  predicted_.setZero();
+  joint_.setZero();
+}
+
+Eigen::Matrix3d MotionFusion::dopplerCovariance(const Eigen::Matrix3d& fit, double dt) const {
+  const Eigen::Vector3d s(options_.doppler_sigma_x, options_.doppler_sigma_y, options_.doppler_sigma_yaw);
+  return fit + (s.cwiseProduct(s) * (dt * dt)).asDiagonal().toDenseMatrix();
+}
+
+Eigen::Matrix3d MotionFusion::matchCovariance(const Eigen::Matrix3d* reported) const {
+  if (reported && reported->allFinite()) {
+    const Eigen::LLT<Eigen::Matrix3d> llt(*reported);
+    if (llt.info() == Eigen::Success) return options_.match_covariance_scale * *reported;
+  }
+  const Eigen::Vector3d s(options_.match_sigma_x, options_.match_sigma_y, options_.match_sigma_yaw);
+  return s.cwiseProduct(s).asDiagonal();
+}
+
+MotionEstimate MotionFusion::predict(const Pose2& doppler_motion, const Eigen::Matrix3d& fit, double dt) {
+  // The bias walks over dt; the motion's yaw is θ_d − b·dt, so Cov(yaw, b) = −dt·Var(b).
+  bias_var_ += options_.yaw_rate_bias_walk * options_.yaw_rate_bias_walk * std::max(dt, 0.0);
+  predicted_ = doppler_motion;
+  predicted_.z() -= bias_ * dt;
+  joint_.setZero();
+  joint_.topLeftCorner<3, 3>() = dopplerCovariance(fit, dt);
+  joint_(2, 2) += bias_var_ * dt * dt;
+  joint_(2, 3) = joint_(3, 2) = -bias_var_ * dt;
+  joint_(3, 3) = bias_var_;
+  return {predicted_, joint_.topLeftCorner<3, 3>()};
+}
+
+MotionEstimate MotionFusion::update(const Pose2& match, const Eigen::Matrix3d& match_covariance) {
+  Eigen::Matrix<double, 3, 4> H = Eigen::Matrix<double, 3, 4>::Zero();
+  H.leftCols<3>().setIdentity();
+  const Eigen::Matrix3d S = joint_.topLeftCorner<3, 3>() + match_covariance;
+  const Eigen::Matrix<double, 4, 3> K = joint_ * H.transpose() * S.inverse();
+  Pose2 innovation = match - predicted_;
+  innovation.z() = std::remainder(innovation.z(), 2.0 * kPi);
+  const Eigen::Vector4d dx = K * innovation;
+  const Eigen::Matrix4d joint = (Eigen::Matrix4d::Identity() - K * H) * joint_;
+  bias_ += dx(3);
+  bias_var_ = joint(3, 3);
+  MotionEstimate fused;
+  fused.motion = predicted_ + dx.head<3>();
+  fused.motion.z() = std::remainder(fused.motion.z(), 2.0 * kPi);
+  fused.covariance = 0.5 * (joint.topLeftCorner<3, 3>() + joint.topLeftCorner<3, 3>().transpose());
+  return fused;
+}
+
+}  // namespace radar_ndt

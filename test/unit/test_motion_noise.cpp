@@ -1,0 +1,66 @@
+// Calibrating the fusion's covariances against ground truth, and the NEES check.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include "radar_ndt/evaluation/motion_noise.h"
+
+using namespace radar_ndt;
+
+namespace {
+/// Samples whose Doppler errors are N(0, fit + diag(s_d²)·dt²) and whose match errors are
+/// N(0, k·reported) (or N(0, diag(s_m²)) without a reported covariance).
+std::vector<MotionNoiseSample> samples(std::size_t n, unsigned seed, bool reported) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  const Eigen::Vector3d s_d(0.2, 0.08, 0.03), s_m(0.04, 0.05, 0.002);
+  std::vector<MotionNoiseSample> out;
+  for (std::size_t i = 0; i < n; ++i) {
+    MotionNoiseSample s;
+    s.dt = 0.06 + 0.03 * static_cast<double>(i % 3);
+    s.truth = Pose2(0.8, 0.01, 0.005);
+    s.doppler_covariance = Eigen::Vector3d(1e-6, 1e-6, 1e-8).asDiagonal();
+    const Eigen::Vector3d sd = (s.doppler_covariance.diagonal() + s_d.cwiseProduct(s_d) * s.dt * s.dt).cwiseSqrt();
+    s.doppler = s.truth + Eigen::Vector3d(sd.x() * g(rng), sd.y() * g(rng), sd.z() * g(rng));
+    s.matched = i % 10 != 0;
+    const Eigen::Matrix3d reported_cov = Eigen::Vector3d(4e-4, 6e-4, 1e-6).asDiagonal();
+    s.match_covariance = reported ? reported_cov : Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    const Eigen::Vector3d sm = reported ? (3.0 * reported_cov.diagonal()).cwiseSqrt() : s_m;
+    s.match = s.truth + Eigen::Vector3d(sm.x() * g(rng), sm.y() * g(rng), sm.z() * g(rng));
+    out.push_back(s);
+  }
+  return out;
+}
+}  // namespace
+
+TEST(MotionNoise, CalibrationRecoversTheNoiseAndGivesNeesThreeOnFreshSamples) {
+  const MotionNoiseCalibration c = calibrateMotionNoise(samples(20000, 1, true));
+  EXPECT_NEAR(c.doppler_sigma_x, 0.2, 0.01);
+  EXPECT_NEAR(c.doppler_sigma_y, 0.08, 0.004);
+  EXPECT_NEAR(c.doppler_sigma_yaw, 0.03, 0.0015);
+  EXPECT_NEAR(c.match_covariance_scale, 3.0, 0.1);
+  EXPECT_EQ(c.doppler_samples, 20000u);
+  EXPECT_EQ(c.match_samples, 18000u);
+  EXPECT_EQ(c.reported_covariances, 18000u);
+  const MotionNees n = motionNees(samples(5000, 2, true), c.applyTo(MotionFusionOptions{}));
+  EXPECT_NEAR(n.doppler, 3.0, 0.15);
+  EXPECT_NEAR(n.match, 3.0, 0.15);
+  // An uncalibrated fit covariance alone is far too optimistic.
+  MotionFusionOptions tiny;
+  tiny.doppler_sigma_x = tiny.doppler_sigma_y = tiny.doppler_sigma_yaw = 1e-6;
+  EXPECT_GT(motionNees(samples(1000, 3, true), tiny).doppler, 100.0);
+}
+
+TEST(MotionNoise, WithoutReportedCovariancesTheFixedSigmasAreCalibrated) {
+  const MotionNoiseCalibration c = calibrateMotionNoise(samples(20000, 4, false));
+  EXPECT_EQ(c.reported_covariances, 0u);
+  EXPECT_NEAR(c.match_sigma_x, 0.04, 0.002);
+  EXPECT_NEAR(c.match_sigma_y, 0.05, 0.0025);
+  EXPECT_NEAR(c.match_sigma_yaw, 0.002, 0.0001);
+  const MotionFusionOptions o = c.applyTo(MotionFusionOptions{});
+  EXPECT_EQ(o.match_covariance_scale, MotionFusionOptions{}.match_covariance_scale) << "nothing to calibrate it on";
+  EXPECT_NEAR(motionNees(samples(5000, 5, false), o).match, 3.0, 0.15);
+  EXPECT_THROW(calibrateMotionNoise({}), std::invalid_argument);
+}

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -38,6 +39,24 @@ class GuessMatcher : public RadarRegistration {
 
  protected:
   void computeTransformation(PointCloudSource& output, const Eigen::Matrix4f& guess) override {
+    final_transformation_ = guess;
+    pcl::transformPointCloud(*input_, output, final_transformation_);
+    converged_ = true;
+  }
+};
+
+/// Returns its guess and keeps the power of every source point it was given, per align().
+class PowerRecorder : public RadarRegistration {
+ public:
+  std::vector<std::vector<float>> source_power, target_power;
+
+ protected:
+  void computeTransformation(PointCloudSource& output, const Eigen::Matrix4f& guess) override {
+    std::vector<float> s, t;
+    for (const auto& p : *input_) s.push_back(p.power);
+    for (const auto& p : *target_) t.push_back(p.power);
+    source_power.push_back(s);
+    target_power.push_back(t);
     final_transformation_ = guess;
     pcl::transformPointCloud(*input_, output, final_transformation_);
     converged_ = true;
@@ -123,6 +142,68 @@ TEST(AutomotiveOdometry, CycleToMapMatchesTheNewCycleAgainstEarlierCyclesOnly) {
   EXPECT_THROW(parseAutomotiveMatchMode("scan-to-scan"), std::invalid_argument);
   EXPECT_EQ(parseAutomotiveMatchMode("paper"), AutomotiveMatchMode::SubmapToSubmap);
   EXPECT_EQ(parseAutomotiveMatchMode(toString(AutomotiveMatchMode::CycleToMap)), AutomotiveMatchMode::CycleToMap);
+}
+
+TEST(AutomotiveOdometry, RappWeightsEachCycleAgainstItsOwnMotion) {
+  // Two cycles from one radar at the vehicle origin: the first driving straight at 10 m/s, the
+  // second turning at 0.5 rad/s. Every point is stationary, its Doppler what its own cycle's motion
+  // predicts, but for one moving point in the first cycle (2 m/s off). In the second cycle's
+  // submap (N = 2) the first cycle's points must keep weights from the first cycle's motion, in its
+  // own frame: ≈ 1, and ≈ 0 for the moving one. Judged against the second cycle's motion at their
+  // moved positions (as before), the stationary ones far from the vehicle would fall well below 1.
+  const SensorMounting radar{0.0, 0.0, 0.0, true};
+  const double dt = 0.075;
+  auto cycle = [&](std::int64_t t_us, const Eigen::Vector3d& v, int moving) {
+    ProcessedCycle c;
+    c.timestamp_us = t_us;
+    c.mountings = {radar};
+    for (int i = 0; i < 40; ++i) {
+      const double a = -1.2 + 0.06 * i, r = 10.0 + 1.5 * i;
+      PointRadar p(static_cast<float>(r * std::cos(a)), static_cast<float>(r * std::sin(a)), 0.f);
+      p.cov_xx = p.cov_yy = 0.04f;
+      p.sensor_id = 0;
+      p.doppler = static_cast<float>(predictedDoppler(radar, p.x, p.y, v) + (i == moving ? 2.0 : 0.0));
+      c.cloud->push_back(p);
+    }
+    c.ego.velocity = v;
+    c.ego.covariance = Eigen::Matrix3d::Identity() * 1e-6;
+    c.ego.valid = true;
+    return c;
+  };
+  const Eigen::Vector3d v1(10.0, 0.0, 0.0), v2(10.0, 0.0, 0.5);
+  AutomotiveOdometryOptions o = AutomotiveOdometryOptions{}.paper(2);
+  o.doppler_weights = true;
+  o.doppler_weight_rounds = 1;
+  auto recorder = pcl::make_shared<PowerRecorder>();
+  AutomotiveOdometry odo(o, recorder);
+  odo.add(cycle(0, v1, 7));
+  odo.add(cycle(static_cast<std::int64_t>(dt * 1e6), v2, -1));
+  ASSERT_EQ(recorder->source_power.size(), 1u);
+  const std::vector<float>& w = recorder->source_power[0];
+  ASSERT_EQ(w.size(), 80u);
+  for (int i = 0; i < 40; ++i) {
+    if (i == 7)
+      EXPECT_LT(w[i], 1e-6) << "the moving point of the first cycle";
+    else
+      EXPECT_GT(w[i], 0.999f) << "first cycle, point " << i;
+  }
+  // The guess is the trapezoid motion, not v2·dt: the newest cycle's weights use it, so they are
+  // high but not exactly 1.
+  for (int i = 40; i < 80; ++i) EXPECT_GT(w[i], 0.5f) << "second cycle, point " << i - 40;
+  // The target is the first cycle weighted against its own ego-velocity.
+  ASSERT_EQ(recorder->target_power[0].size(), 40u);
+  EXPECT_LT(recorder->target_power[0][7], 1e-6);
+  EXPECT_GT(recorder->target_power[0][0], 0.999f);
+  // Judged against the second cycle's motion at the moved positions, as before, the far points of
+  // the first cycle would be weighted far below 1: the case this test tells apart.
+  pcl::PointCloud<PointRadar> moved = *cycle(0, v1, 7).cloud;
+  transformWithUncertainty(moved, integrateVelocity(0.5 * (v1 + v2), dt), Eigen::Matrix3d::Zero());
+  double worst = 1;
+  for (int i = 0; i < 40; ++i) {
+    const double e = moved[i].doppler - predictedDoppler(radar, moved[i].x, moved[i].y, v2);
+    if (i != 7) worst = std::min(worst, std::exp(-0.5 * e * e / (o.doppler_weight_sigma * o.doppler_weight_sigma)));
+  }
+  EXPECT_LT(worst, 0.5);
 }
 
 TEST(AutomotiveOdometry, DopplerDeadReckoningAndSkippedDuplicateTimestamps) {

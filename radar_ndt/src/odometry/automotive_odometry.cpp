@@ -89,9 +89,14 @@ const OdometryStep& AutomotiveOdometry::add(const ProcessedCycle& cycle) {
 
   if (!prev) {
     step.status = StepStatus::First;
-    target_ = submap;
+    if (options_.doppler_weights) {
+      submap_.newest() = weightedCycle(cycle, ego.velocity);
+      target_ = submap_.cloud();
+    } else {
+      target_ = submap;
+    }
     map_.clear();
-    map_.add(*cycle.cloud);
+    map_.add(options_.doppler_weights ? submap_.newest() : *cycle.cloud);
     fusion_.reset();
     return log_.add(step);
   }
@@ -112,7 +117,8 @@ const OdometryStep& AutomotiveOdometry::add(const ProcessedCycle& cycle) {
     step.status = StepStatus::DeadReckoned;
     ++log_.counters().dead_reckoned;
   } else {
-    const Pose2 match = matchWithRetries(cycle, source, target, prior.motion, prior.covariance, dt, step);
+    const std::size_t newest_begin = source->size() - cycle.cloud->size();  // the submap keeps the newest cycle last
+    const Pose2 match = matchWithRetries(cycle, source, newest_begin, target, prior.motion, prior.covariance, dt, step);
     if (step.status == StepStatus::Matched || step.status == StepStatus::Retried) {
       step.match_motion = match;
       step.match_covariance = matcher_.poseCovariance();
@@ -127,16 +133,18 @@ const OdometryStep& AutomotiveOdometry::add(const ProcessedCycle& cycle) {
   step.motion = estimate.motion;
   step.pose = compose(prev->pose, estimate.motion);
   motion_model_.update(estimate.motion, dt);
-  target_ = submap;
+  // Rapp: the newest cycle keeps the weights its own estimated motion gives it.
+  if (options_.doppler_weights) submap_.newest() = weightedCycle(cycle, estimate.motion / dt);
+  target_ = options_.doppler_weights ? submap_.cloud() : submap;
   if (to_map) {
     map_.advance(estimate.motion, estimate.covariance);
-    map_.add(*cycle.cloud);
+    map_.add(options_.doppler_weights ? submap_.newest() : *cycle.cloud);
   }
   return log_.add(step);
 }
 
 Pose2 AutomotiveOdometry::matchWithRetries(const ProcessedCycle& cycle, const pcl::PointCloud<PointRadar>::Ptr& source,
-                                           const pcl::PointCloud<PointRadar>::Ptr& target, const Pose2& guess,
+                                           std::size_t newest_begin, const pcl::PointCloud<PointRadar>::Ptr& target, const Pose2& guess,
                                            const Eigen::Matrix3d& guess_cov, double dt, OdometryStep& step) {
   const auto t0 = detail::Clock::now();
   RadarRegistration& matcher = matcher_.registration();
@@ -154,7 +162,7 @@ Pose2 AutomotiveOdometry::matchWithRetries(const ProcessedCycle& cycle, const pc
     for (int round = 0; round < rounds; ++round) {
       // Rapp: weights from the initial guess, then from each round's estimate (a failed attempt's
       // estimate must not carry over into the next attempt).
-      if (options_.doppler_weights) weightByDoppler(*source, cycle.mountings, estimate, dt);
+      if (options_.doppler_weights) weightByDoppler(*source, cycle.mountings, estimate / dt, newest_begin);
       matcher.setInputSource(source);
       matcher.align(aligned_, toMatrix4<float>(estimate));
       converged = matcher.hasConverged();
@@ -183,11 +191,12 @@ Pose2 AutomotiveOdometry::matchWithRetries(const ProcessedCycle& cycle, const pc
 }
 
 void AutomotiveOdometry::weightByDoppler(pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings,
-                                         const Pose2& motion, double dt) const {
-  // Velocity that the motion implies (first order), then each point's Doppler agreement.
-  const Eigen::Vector3d v = motion / dt;
+                                         const Eigen::Vector3d& v, std::size_t first) const {
+  // Each point's Doppler against the one the velocity predicts for a stationary point there (in
+  // its own cycle's frame, where it was measured).
   const double inv = 1.0 / (options_.doppler_weight_sigma * options_.doppler_weight_sigma);
-  for (auto& p : cloud) {
+  for (std::size_t i = first; i < cloud.size(); ++i) {
+    PointRadar& p = cloud[i];
     double w = 0;
     if (p.sensor_id < mountings.size() && mountings[p.sensor_id].valid) {
       const double e = p.doppler - predictedDoppler(mountings[p.sensor_id], p.x, p.y, v);
@@ -195,6 +204,12 @@ void AutomotiveOdometry::weightByDoppler(pcl::PointCloud<PointRadar>& cloud, con
     }
     p.power = static_cast<float>(w);
   }
+}
+
+pcl::PointCloud<PointRadar> AutomotiveOdometry::weightedCycle(const ProcessedCycle& cycle, const Eigen::Vector3d& velocity) const {
+  pcl::PointCloud<PointRadar> c = *cycle.cloud;
+  weightByDoppler(c, cycle.mountings, velocity);
+  return c;
 }
 
 }  // namespace radar_ndt

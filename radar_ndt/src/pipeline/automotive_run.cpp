@@ -30,7 +30,7 @@ AutomotiveRunOptions withMethod(AutomotiveRunOptions options, Method method) {
   // (radar_paper_tables --noise-calibration; docs/automotive_pipeline.md): ours reports one, which
   // Rapp's weights make less optimistic; PCL's matchers report none.
   MotionFusionOptions& f = options.odometry.fusion;
-  if (method == Method::RappNdt) f.match_covariance_scale = 1.16;
+  if (method == Method::RappNdt) f.match_covariance_scale = 1.23;
   if (method == Method::PclNdt) {
     f.match_sigma_x = 0.040;
     f.match_sigma_y = 0.046;

@@ -33,6 +33,9 @@ class ProbabilisticSubmap {
   /// All kept cycles in the newest cycle's frame, oldest first.
   pcl::PointCloud<PointRadar>::Ptr cloud() const;
   std::size_t cycles() const { return clouds_.size(); }
+  /// The newest cycle as kept (its points' fields may be changed, e.g. weights; not its size).
+  /// Requires cycles() > 0.
+  pcl::PointCloud<PointRadar>& newest() { return clouds_.back(); }
   void clear();
 
   /// The motion used by the last add(): the newest frame in the previous one, and its covariance.

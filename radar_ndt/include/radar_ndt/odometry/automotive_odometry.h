@@ -58,8 +58,10 @@ struct AutomotiveOdometryOptions {
   /// previous one is reused): 1σ in m/s and rad/s.
   double stale_velocity_sigma = 0.5;
   std::size_t min_points = 10;   ///< fewer points in either submap: no match, dead reckoning
-  /// Rapp et al.: weight each source point by exp(−½(Δv_r/σ)²), Δv_r its Doppler minus the one the
-  /// current motion estimate predicts, re-weighted `doppler_weight_rounds` times.
+  /// Rapp et al.: weight each point by exp(−½(Δv_r/σ)²), Δv_r its Doppler minus the one its own
+  /// cycle's motion predicts, in that cycle's frame: the newest cycle's against the current
+  /// estimate, re-weighted `doppler_weight_rounds` times; older cycles keep the weights their own
+  /// estimated motion gave them (the first cycle: its Doppler ego-velocity).
   bool doppler_weights = false;
   double doppler_weight_sigma = 0.15;
   int doppler_weight_rounds = 2;
@@ -94,11 +96,15 @@ class AutomotiveOdometry {
   EgoVelocity egoVelocityOf(const ProcessedCycle& cycle);
   /// Match `source` to the last submap from `guess`, retrying with larger grids; the accepted
   /// motion, or the guess after a fallback (step's status, attempts, grid and χ² set).
-  Pose2 matchWithRetries(const ProcessedCycle& cycle, const pcl::PointCloud<PointRadar>::Ptr& source,
+  /// Source points from `newest_begin` on are the newest cycle's (the ones Rapp's rounds reweight).
+  Pose2 matchWithRetries(const ProcessedCycle& cycle, const pcl::PointCloud<PointRadar>::Ptr& source, std::size_t newest_begin,
                          const pcl::PointCloud<PointRadar>::Ptr& target, const Pose2& guess, const Eigen::Matrix3d& guess_cov,
                          double dt, OdometryStep& step);
-  void weightByDoppler(pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings, const Pose2& motion,
-                       double dt) const;
+  /// Rapp's weights of cloud[first..] against the velocity `v` = (vx, vy, ω) of their cycle.
+  void weightByDoppler(pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings, const Eigen::Vector3d& v,
+                       std::size_t first = 0) const;
+  /// The newest cycle's points weighted against `velocity` (Rapp): what the submap or map keeps.
+  pcl::PointCloud<PointRadar> weightedCycle(const ProcessedCycle& cycle, const Eigen::Vector3d& velocity) const;
 
   AutomotiveOdometryOptions options_;
   MatcherAdapter matcher_;

@@ -68,15 +68,17 @@ void ProbabilisticSubmap::add(const pcl::PointCloud<PointRadar>& cycle, const Ei
   prev_covariance_ = cov;
 }
 
-pcl::PointCloud<PointRadar>::Ptr ProbabilisticSubmap::cloud() const {
+pcl::PointCloud<PointRadar>::Ptr concatenateCycles(const std::deque<pcl::PointCloud<PointRadar>>& cycles) {
   pcl::PointCloud<PointRadar>::Ptr out(new pcl::PointCloud<PointRadar>);
   std::size_t n = 0;
-  for (const auto& c : clouds_) n += c.size();
+  for (const auto& c : cycles) n += c.size();
   out->reserve(n);
-  for (const auto& c : clouds_) out->insert(out->end(), c.begin(), c.end());
+  for (const auto& c : cycles) out->insert(out->end(), c.begin(), c.end());
   out->width = static_cast<std::uint32_t>(out->size());
   out->height = 1;
   return out;
 }
+
+pcl::PointCloud<PointRadar>::Ptr ProbabilisticSubmap::cloud() const { return concatenateCycles(clouds_); }
 
 }  // namespace radar_ndt

@@ -17,15 +17,6 @@ void LocalMap::add(const pcl::PointCloud<PointRadar>& cycle) {
   while (clouds_.size() > capacity_) clouds_.pop_front();
 }
 
-pcl::PointCloud<PointRadar>::Ptr LocalMap::cloud() const {
-  pcl::PointCloud<PointRadar>::Ptr out(new pcl::PointCloud<PointRadar>);
-  std::size_t n = 0;
-  for (const auto& c : clouds_) n += c.size();
-  out->reserve(n);
-  for (const auto& c : clouds_) out->insert(out->end(), c.begin(), c.end());
-  out->width = static_cast<std::uint32_t>(out->size());
-  out->height = 1;
-  return out;
-}
+pcl::PointCloud<PointRadar>::Ptr LocalMap::cloud() const { return concatenateCycles(clouds_); }
 
 }  // namespace radar_ndt

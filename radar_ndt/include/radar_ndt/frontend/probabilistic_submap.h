@@ -55,6 +55,9 @@ class ProbabilisticSubmap {
 /// `motion_cov` its covariance, growing each point's covariance as ProbabilisticSubmap does.
 void transformWithUncertainty(pcl::PointCloud<PointRadar>& cloud, const Pose2& motion, const Eigen::Matrix3d& motion_cov);
 
+/// The clouds of `cycles` in one cloud, in order (width = size, height 1).
+pcl::PointCloud<PointRadar>::Ptr concatenateCycles(const std::deque<pcl::PointCloud<PointRadar>>& cycles);
+
 /// Covariance of integrateVelocity(v, dt) given Cov(v): J Σ_v Jᵀ dt², J = [V(θ) 0; 0 1].
 Eigen::Matrix3d motionCovariance(const Eigen::Vector3d& v, const Eigen::Matrix3d& velocity_cov, double dt);
 

@@ -60,15 +60,19 @@ ScanningSequence::ScanningSequence(const std::string& dir, ScanFormat format, co
     if (exists(gt_path)) {
       const std::vector<OxfordRelativePose> rows = readOxfordRadarOdometry(gt_path);
       // Chain the relative motions from the first row's destination scan. Oxford axes (x forward,
-      // y right, z down) → vehicle axes (x forward, y left, z up): y and yaw change sign.
+      // y right, z down) → vehicle axes (x forward, y left, z up): y and yaw change sign. Each pose
+      // is keyed by its scan's radar timestamp (source_radar_timestamp: the scan's file name and
+      // index stamp, its first azimuth), not by source_timestamp, which in the dataset lies about
+      // half a sweep later: keyed by the latter, no pose would meet its scan within a tolerance
+      // shorter than that half sweep.
       Pose2 pose = Pose2::Zero();
       if (!rows.empty()) {
-        ground_truth_.stamps.push_back(1e-6 * static_cast<double>(rows.front().destination));
+        ground_truth_.stamps.push_back(1e-6 * static_cast<double>(rows.front().destination_radar));
         ground_truth_.poses.push_back(toIsometry3(pose));
       }
       for (const auto& r : rows) {
         pose = compose(pose, Pose2(r.x, -r.y, -r.yaw));
-        ground_truth_.stamps.push_back(1e-6 * static_cast<double>(r.source));
+        ground_truth_.stamps.push_back(1e-6 * static_cast<double>(r.source_radar));
         ground_truth_.poses.push_back(toIsometry3(pose));
       }
     }

@@ -98,7 +98,7 @@ MotionNees motionNees(const std::vector<MotionNoiseSample>& samples, const Motio
     ++r.doppler_samples;
     if (!s.matched) continue;
     const Pose2 em = error(s.match, s.truth);
-    const Eigen::Matrix3d C = fusion.matchCovariance(reported(s.match_covariance) ? &s.match_covariance : nullptr);
+    const Eigen::Matrix3d C = fusion.matchCovariance(&s.match_covariance);  // NaN or degenerate: the fixed σ's
     m += em.dot(C.inverse() * em);
     ++r.match_samples;
   }

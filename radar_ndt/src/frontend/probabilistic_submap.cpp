@@ -60,6 +60,8 @@ void ProbabilisticSubmap::add(const pcl::PointCloud<PointRadar>& cycle, const Ei
     const Eigen::Matrix3d cov_mean = 0.25 * (prev_covariance_ + cov);
     last_motion_ = integrateVelocity(v_mean, dt);
     last_motion_cov_ = motionCovariance(v_mean, cov_mean, dt);
+    // Only the cycles that stay are moved (N = 1 keeps none).
+    while (clouds_.size() >= size_) clouds_.pop_front();
     for (auto& old : clouds_) transformWithUncertainty(old, last_motion_, last_motion_cov_);
   }
   clouds_.push_back(cycle);

@@ -89,15 +89,9 @@ const OdometryStep& AutomotiveOdometry::add(const ProcessedCycle& cycle) {
 
   if (!prev) {
     step.status = StepStatus::First;
-    if (options_.doppler_weights) {
-      submap_.newest() = weightedCycle(cycle, ego.velocity);
-      target_ = submap_.cloud();
-    } else {
-      target_ = submap;
-    }
     map_.clear();
-    map_.add(options_.doppler_weights ? submap_.newest() : *cycle.cloud);
     fusion_.reset();
+    keepForNextMatch(cycle, ego.velocity, submap);
     return log_.add(step);
   }
 
@@ -107,9 +101,10 @@ const OdometryStep& AutomotiveOdometry::add(const ProcessedCycle& cycle) {
   MotionEstimate prior{step.doppler_motion, step.doppler_covariance};
   if (options_.fuse_doppler) prior = fusion_.predict(step.doppler_motion, step.doppler_covariance, dt);
 
-  // CycleToMap: the new cycle alone against the local map; SubmapToSubmap: submap to submap.
-  pcl::PointCloud<PointRadar>::Ptr source = to_map ? pcl::PointCloud<PointRadar>::Ptr(new pcl::PointCloud<PointRadar>(*cycle.cloud)) : submap;
-  pcl::PointCloud<PointRadar>::Ptr target = to_map ? map_.cloud() : target_;
+  // CycleToMap: the new cycle alone (the submap keeps one cycle there) against the local map;
+  // SubmapToSubmap: submap to submap.
+  const pcl::PointCloud<PointRadar>::Ptr& source = submap;
+  const pcl::PointCloud<PointRadar>::Ptr target = to_map ? map_.cloud() : target_;
   step.source_points = source->size();
   step.target_points = target ? target->size() : 0;
   MotionEstimate estimate = prior;
@@ -123,7 +118,7 @@ const OdometryStep& AutomotiveOdometry::add(const ProcessedCycle& cycle) {
       step.match_motion = match;
       step.match_covariance = matcher_.poseCovariance();
       if (options_.fuse_doppler) {
-        estimate = fusion_.update(match, fusion_.matchCovariance(matcher_.hasPoseCovariance() ? &step.match_covariance : nullptr));
+        estimate = fusion_.update(match, fusion_.matchCovariance(&step.match_covariance));
       } else {
         estimate.motion = match;
       }
@@ -133,14 +128,19 @@ const OdometryStep& AutomotiveOdometry::add(const ProcessedCycle& cycle) {
   step.motion = estimate.motion;
   step.pose = compose(prev->pose, estimate.motion);
   motion_model_.update(estimate.motion, dt);
-  // Rapp: the newest cycle keeps the weights its own estimated motion gives it.
-  if (options_.doppler_weights) submap_.newest() = weightedCycle(cycle, estimate.motion / dt);
-  target_ = options_.doppler_weights ? submap_.cloud() : submap;
-  if (to_map) {
-    map_.advance(estimate.motion, estimate.covariance);
-    map_.add(options_.doppler_weights ? submap_.newest() : *cycle.cloud);
-  }
+  if (to_map) map_.advance(estimate.motion, estimate.covariance);
+  keepForNextMatch(cycle, estimate.motion / dt, submap);
   return log_.add(step);
+}
+
+void AutomotiveOdometry::keepForNextMatch(const ProcessedCycle& cycle, const Eigen::Vector3d& velocity,
+                                          const pcl::PointCloud<PointRadar>::Ptr& submap) {
+  // Rapp: the newest cycle keeps the weights its own (estimated) velocity gives it.
+  if (options_.doppler_weights) submap_.newest() = weightedCycle(cycle, velocity);
+  if (options_.mode == AutomotiveMatchMode::CycleToMap)
+    map_.add(submap_.newest());
+  else
+    target_ = options_.doppler_weights ? submap_.cloud() : submap;
 }
 
 Pose2 AutomotiveOdometry::matchWithRetries(const ProcessedCycle& cycle, const pcl::PointCloud<PointRadar>::Ptr& source,

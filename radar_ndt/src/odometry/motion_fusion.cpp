@@ -66,14 +66,15 @@ MotionEstimate MotionFusion::predict(const Pose2& doppler_motion, const Eigen::M
 }
 
 MotionEstimate MotionFusion::update(const Pose2& match, const Eigen::Matrix3d& match_covariance) {
-  Eigen::Matrix<double, 3, 4> H = Eigen::Matrix<double, 3, 4>::Zero();
-  H.leftCols<3>().setIdentity();
+  // The match observes the motion part of the state directly (H = [I 0]).
   const Eigen::Matrix3d S = joint_.topLeftCorner<3, 3>() + match_covariance;
-  const Eigen::Matrix<double, 4, 3> K = joint_ * H.transpose() * S.inverse();
+  const Eigen::Matrix<double, 4, 3> K = joint_.leftCols<3>() * S.inverse();
   Pose2 innovation = match - predicted_;
   innovation.z() = std::remainder(innovation.z(), 2.0 * kPi);
   const Eigen::Vector4d dx = K * innovation;
-  const Eigen::Matrix4d joint = (Eigen::Matrix4d::Identity() - K * H) * joint_;
+  Eigen::Matrix4d I_KH = Eigen::Matrix4d::Identity();
+  I_KH.leftCols<3>() -= K;
+  const Eigen::Matrix4d joint = I_KH * joint_;
   bias_ += dx(3);
   bias_var_ = joint(3, 3);
   MotionEstimate fused;

@@ -103,6 +103,9 @@ class AutomotiveOdometry {
   /// Rapp's weights of cloud[first..] against the velocity `v` = (vx, vy, ω) of their cycle.
   void weightByDoppler(pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings, const Eigen::Vector3d& v,
                        std::size_t first = 0) const;
+  /// After a cycle: what the next match needs of it (the paper's target submap, or the cycle in
+  /// the local map, already moved into this cycle's frame), with Rapp's weights from `velocity`.
+  void keepForNextMatch(const ProcessedCycle& cycle, const Eigen::Vector3d& velocity, const pcl::PointCloud<PointRadar>::Ptr& submap);
   /// The newest cycle's points weighted against `velocity` (Rapp): what the submap or map keeps.
   pcl::PointCloud<PointRadar> weightedCycle(const ProcessedCycle& cycle, const Eigen::Vector3d& velocity) const;
 

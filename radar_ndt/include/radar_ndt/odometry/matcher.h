@@ -118,8 +118,6 @@ class MatcherAdapter {
   /// sequence (a scan that fits its target nowhere, e.g. all noise, scores a fraction of the
   /// usual); NaN for other matchers.
   double fitPerPoint() const { return fit_per_point_ ? fit_per_point_() : std::numeric_limits<double>::quiet_NaN(); }
-  /// Whether the matcher reports the covariance of its (x, y, yaw) estimate (ours does).
-  bool hasPoseCovariance() const { return static_cast<bool>(pose_covariance_); }
   /// The last align()'s pose covariance as the matcher reports it; NaN for a matcher without one.
   Eigen::Matrix3d poseCovariance() const {
     return pose_covariance_ ? pose_covariance_() : Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());

@@ -64,3 +64,39 @@ TEST(MotionNoise, WithoutReportedCovariancesTheFixedSigmasAreCalibrated) {
   EXPECT_NEAR(motionNees(samples(5000, 5, false), o).match, 3.0, 0.15);
   EXPECT_THROW(calibrateMotionNoise({}), std::invalid_argument);
 }
+
+TEST(MotionNoise, MatchInformationIsTheBestLinearFusionOfIndependentErrors) {
+  // Independent errors σ_d = 1 cm, σ_m = 2 cm: the best weight on the match is σ_d²/(σ_d²+σ_m²) =
+  // 0.2 and the fused RMS σ_d·σ_m/√(σ_d²+σ_m²) = 0.894 cm.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<MotionNoiseSample> v;
+  for (int i = 0; i < 40000; ++i) {
+    MotionNoiseSample s;
+    s.dt = 0.075;
+    s.truth = Pose2(0.8, 0.0, 0.0);
+    s.doppler = s.truth + Eigen::Vector3d(0.01 * g(rng), 0.01 * g(rng), 0.001 * g(rng));
+    s.matched = true;
+    s.match = s.truth + Eigen::Vector3d(0.02 * g(rng), 0.02 * g(rng), 0.002 * g(rng));
+    v.push_back(s);
+  }
+  const MatchInformation info = matchInformation(v);
+  EXPECT_EQ(info.samples, 40000u);
+  EXPECT_NEAR(info.axis[0].doppler_rms, 0.01, 2e-4);
+  EXPECT_NEAR(info.axis[0].match_rms, 0.02, 4e-4);
+  EXPECT_NEAR(info.axis[0].correlation, 0.0, 0.02);
+  EXPECT_NEAR(info.axis[0].oracle_weight, 0.2, 0.01);
+  EXPECT_NEAR(info.axis[0].oracle_rms, 0.00894, 2e-4);
+  EXPECT_NEAR(info.axis[2].oracle_weight, 0.2, 0.01);
+
+  // A match that only adds noise to the Doppler motion (it stays at its guess, as along a street
+  // whose geometry runs along the track) carries nothing: weight and gain near zero.
+  for (auto& s : v) s.match = s.doppler + Eigen::Vector3d(0.03 * g(rng), 0.03 * g(rng), 0.003 * g(rng));
+  const MatchInformation none = matchInformation(v);
+  EXPECT_NEAR(none.axis[0].oracle_weight, 0.0, 0.01);
+  EXPECT_NEAR(none.axis[0].oracle_rms, none.axis[0].doppler_rms, 1e-4);
+  EXPECT_GT(none.axis[0].correlation, 0.25);
+  // Unmatched samples do not count; fewer than two give NaN.
+  for (auto& s : v) s.matched = false;
+  EXPECT_TRUE(std::isnan(matchInformation(v).axis[0].oracle_rms));
+}

@@ -108,4 +108,35 @@ MotionNees motionNees(const std::vector<MotionNoiseSample>& samples, const Motio
   return r;
 }
 
+MatchInformation matchInformation(const std::vector<MotionNoiseSample>& samples) {
+  MatchInformation r;
+  Eigen::Vector3d dd = Eigen::Vector3d::Zero(), mm = Eigen::Vector3d::Zero(), dm = Eigen::Vector3d::Zero();
+  for (const auto& s : samples) {
+    if (!s.matched) continue;
+    const Pose2 ed = error(s.doppler, s.truth), em = error(s.match, s.truth);
+    dd += ed.cwiseProduct(ed);
+    mm += em.cwiseProduct(em);
+    dm += ed.cwiseProduct(em);
+    ++r.samples;
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double n = static_cast<double>(r.samples);
+  for (int i = 0; i < 3; ++i) {
+    MatchInformationAxis& a = r.axis[i];
+    if (r.samples < 2) {
+      a = {nan, nan, nan, nan, nan};
+      continue;
+    }
+    a.doppler_rms = std::sqrt(dd[i] / n);
+    a.match_rms = std::sqrt(mm[i] / n);
+    a.correlation = dm[i] / std::sqrt(dd[i] * mm[i]);
+    // Σ (e_d + w (e_m − e_d))² is least at w* = −Σ e_d (e_m − e_d) / Σ (e_m − e_d)².
+    const double diff2 = mm[i] - 2 * dm[i] + dd[i];
+    a.oracle_weight = diff2 > 0 ? -(dm[i] - dd[i]) / diff2 : 0.0;
+    const double w = a.oracle_weight;
+    a.oracle_rms = std::sqrt(std::max(0.0, (dd[i] + 2 * w * (dm[i] - dd[i]) + w * w * diff2) / n));
+  }
+  return r;
+}
+
 }  // namespace radar_ndt

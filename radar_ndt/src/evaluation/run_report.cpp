@@ -45,7 +45,7 @@ double realTimeFactor(const ScanningRunResult& r) { return r.period_s > 0 ? r.sc
 std::string stepsCsv(const AutomotiveRunResult& r) {
   std::ostringstream csv;
   csv << "timestamp_us,status,attempts,grid,chi2,dx,dy,dyaw,doppler_dx,doppler_dy,doppler_dyaw,source_points,target_points,"
-         "velocity_valid,gt_dx,gt_dy,gt_dyaw\n";
+         "velocity_valid,gt_dx,gt_dy,gt_dyaw,match_dx,match_dy,match_dyaw,match_var_x,match_var_y,match_var_yaw,yaw_rate_bias\n";
   for (std::size_t k = 0; k < r.steps.size(); ++k) {
     const OdometryStep& s = r.steps[k];
     const Pose2 gt = k > 0 && k < r.ground_truth.size()
@@ -54,7 +54,9 @@ std::string stepsCsv(const AutomotiveRunResult& r) {
     csv << s.timestamp_us << ',' << toString(s.status) << ',' << s.attempts << ',' << s.grid << ',' << s.chi2 << ','
         << s.motion.x() << ',' << s.motion.y() << ',' << s.motion.z() << ',' << s.doppler_motion.x() << ','
         << s.doppler_motion.y() << ',' << s.doppler_motion.z() << ',' << s.source_points << ',' << s.target_points << ','
-        << s.velocity_valid << ',' << gt.x() << ',' << gt.y() << ',' << gt.z() << '\n';
+        << s.velocity_valid << ',' << gt.x() << ',' << gt.y() << ',' << gt.z() << ',' << s.match_motion.x() << ','
+        << s.match_motion.y() << ',' << s.match_motion.z() << ',' << s.match_covariance(0, 0) << ',' << s.match_covariance(1, 1)
+        << ',' << s.match_covariance(2, 2) << ',' << s.yaw_rate_bias << '\n';
   }
   return csv.str();
 }

@@ -54,4 +54,21 @@ struct MotionNees {
 /// reported match covariance scaled when there is one, else the fixed σ's).
 MotionNees motionNees(const std::vector<MotionNoiseSample>& samples, const MotionFusionOptions& options);
 
+/// What the match can add to the Doppler motion on one axis (x, y or yaw of the motion), judged
+/// with the ground truth: the two errors' RMS and correlation, and the best any fixed linear
+/// fusion d + w·(m − d) could do, w chosen with the ground truth on these very samples (an
+/// oracle, so an upper bound on what a fusion of these two motions can gain on this axis).
+struct MatchInformationAxis {
+  double doppler_rms = 0, match_rms = 0;
+  double correlation = 0;       ///< of the Doppler and match errors
+  double oracle_weight = 0;     ///< w* = −Σ e_d (e_m − e_d) / Σ (e_m − e_d)²
+  double oracle_rms = 0;        ///< the RMS error of d + w*·(m − d)
+};
+struct MatchInformation {
+  MatchInformationAxis axis[3];  ///< x (along track), y, yaw
+  std::size_t samples = 0;       ///< matched samples used
+};
+/// Over the matched samples (NaN figures when there are fewer than 2).
+MatchInformation matchInformation(const std::vector<MotionNoiseSample>& samples);
+
 }  // namespace radar_ndt

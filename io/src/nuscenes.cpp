@@ -245,7 +245,15 @@ NuScenesDataset::NuScenesDataset(const std::string& dataroot, const std::string&
     s.is_key_frame = sample_data.boolean(i, "is_key_frame", false);
     const std::string filename = sample_data.str(i, "filename");
     if (filename.empty()) throw IoError(sample_data.file(), "row " + std::to_string(i) + ": empty filename");
-    s.path = (fs::path(dataroot_) / filename).string();
+    // A sweep lies under the dataroot: a table may not point the reader at other files.
+    const fs::path relative(filename);
+    bool leaves = relative.has_root_name() || relative.has_root_directory() || filename.find('\0') != std::string::npos;
+    for (const auto& part : relative)
+      if (part == "..") leaves = true;
+    if (leaves)
+      throw IoError(sample_data.file(), "row " + std::to_string(i) + ": filename '" + filename +
+                                            "' leaves the dataroot (an absolute path or '..'); sweeps must lie under it");
+    s.path = (fs::path(dataroot_) / relative).string();
     s.sensor_to_ego = cal->second.pose;
     const std::string ego_token = sample_data.str(i, "ego_pose_token");
     const auto ego = ego_row.find(ego_token);

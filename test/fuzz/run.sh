@@ -4,7 +4,8 @@
 #   test/fuzz/run.sh [SECONDS_PER_TARGET] [TARGET ...]      (default: 60 s each, all targets)
 #
 # Builds build-fuzz (clang, -DRADAR_NDT_FUZZ=ON), builds seed corpora in build-fuzz/seeds/<target>
-# from ../shared/data (RADIATE and nuScenes files, the Oxford ground-truth trajectories) and from
+# from ../shared/data (RADIATE and nuScenes files, the real Oxford scans, index and ground truth,
+# the Oxford ground-truth trajectories) and from
 # radar_sim output (built in ./build), then runs each target for SECONDS on the grown corpus in
 # build-fuzz/corpus/<target>. A crash, leak, sanitizer report, timeout (10 s an input) or an
 # allocation over 2 GB stops the target, leaves the input in build-fuzz/artifacts/<target>/, and the
@@ -67,6 +68,14 @@ if [ -d "$data" ]; then
     prefixed 1 "$out/gt.txt" "$seeds/fuzz_trajectory/$(basename "$f" .txt)_kitti.txt"
     rm "$out/gt.txt"
   done
+  # The real Oxford scans: one polar PNG (full size, 400 x 3779), the index and the first rows of
+  # the dataset's own radar_odometry.csv.
+  real=$data/oxford-radar-real
+  if [ -d "$real" ]; then
+    prefixed 0 "$(ls "$real"/radar/*.png | head -1)" "$seeds/fuzz_polar_png/oxford_real_0.png"
+    prefixed 0 "$real/radar.timestamps" "$seeds/fuzz_sequence_index/oxford_real_radar.timestamps"
+    head -21 "$real/gt/radar_odometry.csv" > "$seeds/fuzz_oxford_odometry_csv/oxford_real.csv"
+  fi
   head -40 "$data/kitti-metric-fixture/gt.txt" > "$out/fixture.txt"
   prefixed 1 "$out/fixture.txt" "$seeds/fuzz_trajectory/fixture_kitti.txt"; rm "$out/fixture.txt"
 else

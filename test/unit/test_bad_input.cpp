@@ -4,6 +4,7 @@
 // cases per reader live beside each reader's own tests (test_trajectory_io, test_nuscenes,
 // test_polar_scan); this file holds the ones a single table covers across readers.
 #include <cmath>
+#include <filesystem>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -14,6 +15,8 @@
 
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/nuscenes_writer.h"
+#include "radar_ndt/pipeline/scanning_sequence.h"
 #include "radar_ndt/io/pcd.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/trajectory_io.h"
@@ -201,4 +204,56 @@ TEST(BadInput, FuzzerFindingsStayFixed) {
       EXPECT_NE(std::string(e.what()).find(pcd), std::string::npos) << e.what();
     }
   }
+}
+
+TEST(BadInput, DatasetsCannotPointTheReaderOutsideTheirFolder) {
+  // nuScenes: a sample_data filename that is absolute or climbs out with '..' is refused, naming
+  // the table and the row; a plain relative one is read.
+  const std::string root = test::freshTempDir("escape_nuscenes");
+  std::filesystem::create_directories(root + "/v1.0-test");
+  auto tables = [&](const std::string& filename) {
+    NuScenesTableWriter w;
+    w.addLog("log", "log", "car", "2020-01-01", "here");
+    w.addScene("scene", "log", 1, "s0", "s0", "scene-1", "");
+    w.addSample("s0", 1000, "", "", "scene");
+    w.addSensor("sensor", "RADAR_FRONT", "radar");
+    w.addCalibratedSensor("cal", "sensor", {3.4, 0, 0.5}, {1, 0, 0, 0});
+    w.addEgoPose("ego", 1000, {1, 0, 0, 0}, {0, 0, 0});
+    w.addSampleData("sd", "s0", "ego", "cal", 1000, true, filename, "", "");
+    w.write(root + "/v1.0-test");
+  };
+  tables("samples/RADAR_FRONT/a.pcd");
+  ASSERT_NO_THROW(NuScenesDataset ds(root));
+  for (const std::string bad : {"../outside.pcd", "samples/../../outside.pcd", "/etc/passwd", "samples/RADAR_FRONT/../../../x.pcd"}) {
+    tables(bad);
+    try {
+      NuScenesDataset ds(root);
+      ADD_FAILURE() << "accepted the filename " << bad;
+    } catch (const IoError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("sample_data.json"), std::string::npos) << what;
+      EXPECT_NE(what.find("row 0"), std::string::npos) << what;
+      EXPECT_NE(what.find("leaves the dataroot"), std::string::npos) << what;
+    }
+  }
+
+  // Oxford and RADIATE: the scan files are named from the index's numbers, so no index line can
+  // name a file outside the sequence folder; lines that are not numbers are left out and reported.
+  const std::string ox = test::freshTempDir("escape_oxford");
+  writeAll(ox + "/radar.timestamps", "../../etc/passwd 1\n1547120000000000 1\n1547120000250000/../../x 1\n/tmp/x 1\n1547120000500000 1\n");
+  const ScanningSequence oxford(ox, ScanFormat::Oxford);
+  ASSERT_EQ(oxford.size(), 2u);
+  EXPECT_EQ(oxford.indexProblems().size(), 3u);
+  for (std::size_t k = 0; k < oxford.size(); ++k) {
+    EXPECT_EQ(oxford.path(k).rfind(ox + "/radar/", 0), 0u) << oxford.path(k);
+    EXPECT_EQ(oxford.path(k).find(".."), std::string::npos) << oxford.path(k);
+  }
+  const std::string ra = test::freshTempDir("escape_radiate");
+  writeAll(ra + "/Navtech_Polar.txt",
+           "Frame: ../../x Time: 1574859771.5\nFrame: 000001 Time: 1574859771.75\nFrame: /etc/passwd Time: 1574859772.0\n"
+           "Frame: 000002 Time: 1574859772.0\n");
+  const ScanningSequence radiate(ra, ScanFormat::Radiate);
+  ASSERT_EQ(radiate.size(), 2u);
+  EXPECT_EQ(radiate.indexProblems().size(), 2u);
+  for (std::size_t k = 0; k < radiate.size(); ++k) EXPECT_EQ(radiate.path(k).rfind(ra + "/Navtech_Polar/", 0), 0u) << radiate.path(k);
 }

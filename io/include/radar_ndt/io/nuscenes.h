@@ -75,7 +75,9 @@ struct NuScenesSweep {
 class NuScenesDataset {
  public:
   /// `dataroot` holds `version/` (e.g. v1.0-mini) and samples/, sweeps/. An empty `version`
-  /// finds the one subfolder of dataroot that holds sensor.json (or dataroot itself).
+  /// finds the one subfolder of dataroot that holds sensor.json (or dataroot itself). A
+  /// sample_data `filename` that is absolute or holds '..' is an IoError naming its row: the tables
+  /// cannot make the reader open files outside the dataroot.
   explicit NuScenesDataset(const std::string& dataroot, const std::string& version = "");
 
   const std::string& dataroot() const { return dataroot_; }

@@ -14,6 +14,7 @@
 #include "radar_ndt/registration/weighted_ndt_2d.h"
 #include "radar_ndt/registration/detail/fast_exp.h"
 #include "radar_ndt/registration/detail/ndt_cost.h"
+#include "radar_ndt/registration/detail/newton_optimizer.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/sim/synthetic_scan.h"
 
@@ -701,4 +702,55 @@ TEST(WeightedNDT2D, ARotationEpsilonThatIsNotPositiveMeansOneMinusTheTransformat
   };
   const auto explicit_threshold = run(1.0 - 1e-4);
   for (const double rot_eps : {0.0, -1.0}) EXPECT_EQ(run(rot_eps), explicit_threshold) << rot_eps;
+}
+
+namespace {
+/// A cost whose gradient and Hessian describe a bowl with its minimum at `centre`, but whose value
+/// rises by `ridge` in every direction out of the unit-radius neighbourhood of x = 0 up to `reach`
+/// from it: the Newton step points at the minimum, and every step the line search tries along it
+/// (down to the epsilons) scores worse, as at a cell boundary or a spurious ridge of the score.
+struct TrapCost {
+  Eigen::Vector3d centre;
+  double reach;
+  double operator()(const Eigen::Vector3d& x, Eigen::Vector3d* g, Eigen::Matrix3d* H, int*) const {
+    const Eigen::Vector3d d = x - centre;
+    if (g) *g = 2.0 * d;
+    if (H) *H = 2.0 * Eigen::Matrix3d::Identity();
+    const double moved = x.norm();
+    return d.squaredNorm() + (moved > 0 && moved <= reach ? 1e3 : 0.0);
+  }
+};
+}  // namespace
+
+TEST(NewtonOptimizer, AFailedLineSearchIsConvergedOnlyNearTheNewtonOptimum) {
+  // Away from the optimum (its Newton step 0.5 m, beyond 5 % of a 3 m cell): stuck, not converged,
+  // and x stays where it was, however far the line search halved the step.
+  const detail::StepTolerance tolerance{1e-6, std::cos(1e-4)};
+  const detail::StepLimit limit{1.5, 0.2};
+  const detail::StationaryRegion stationary{0.05 * 3.0, 0.01};
+  {
+    TrapCost cost{Eigen::Vector3d(0.5, 0.0, 0.0), 10.0};
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    detail::NewtonState<int> state;
+    int iterations = 0, total = 0;
+    EXPECT_FALSE(detail::minimizeNewton(cost, x, state, tolerance, limit, stationary, 35, &iterations, &total));
+    EXPECT_EQ(x, Eigen::Vector3d::Zero());
+  }
+  // Near it (a 2 cm Newton step, as where points change cells at the optimum): converged.
+  {
+    TrapCost cost{Eigen::Vector3d(0.02, 0.0, 0.001), 10.0};
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    detail::NewtonState<int> state;
+    int iterations = 0, total = 0;
+    EXPECT_TRUE(detail::minimizeNewton(cost, x, state, tolerance, limit, stationary, 35, &iterations, &total));
+  }
+  // A plain bowl is converged, at its minimum.
+  {
+    TrapCost cost{Eigen::Vector3d(0.7, -0.3, 0.05), 0.0};
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    detail::NewtonState<int> state;
+    int iterations = 0, total = 0;
+    EXPECT_TRUE(detail::minimizeNewton(cost, x, state, tolerance, limit, stationary, 35, &iterations, &total));
+    EXPECT_NEAR((x - cost.centre).norm(), 0.0, 1e-6);
+  }
 }

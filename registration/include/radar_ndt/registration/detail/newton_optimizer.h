@@ -22,6 +22,18 @@ struct StepTolerance {
   bool isSmall(const Eigen::Vector3d& d) const { return d.head<2>().squaredNorm() < translation_sq && std::cos(d.z()) >= rotation_cos; }
 };
 
+/// Where a Newton step that no line search can improve on still counts as converged: within this
+/// much of x (translation m, rotation rad) the Newton model's optimum lies within the score's
+/// resolution (points changing cells make the score jump by more than such a step's predicted
+/// decrease); further away the search is stuck.
+struct StationaryRegion {
+  double translation;
+  double rotation;
+  bool contains(const Eigen::Vector3d& newton_step) const {
+    return newton_step.head<2>().norm() <= translation && std::abs(newton_step.z()) <= rotation;
+  }
+};
+
 /// The largest step the line search starts from: translation (m) and rotation (rad).
 struct StepLimit {
   double translation;
@@ -59,14 +71,16 @@ struct NewtonState {
 };
 
 /// Minimises `cost` from `x` by Newton steps until a step falls below `tolerance` (converged), the
-/// line search finds no improvement, or `*iterations` reaches `max_iterations`; every iteration
-/// also counts in `*total`. `cost(x, g, H, extra)` returns the value at x and, when g, H and extra
+/// line search finds no improvement (converged when the Newton step it started from lies within
+/// `stationary`, stuck otherwise), or `*iterations` reaches `max_iterations`; every iteration also
+/// counts in `*total`. `cost(x, g, H, extra)` returns the value at x and, when g, H and extra
 /// are not null, the derivatives and extras. Returns whether it converged; `state` holds the value
 /// and derivatives at the last x it evaluated with derivatives (a step below the tolerance is taken
 /// without evaluating it).
 template <typename Cost, typename Extra>
 bool minimizeNewton(const Cost& cost, Eigen::Vector3d& x, NewtonState<Extra>& state, const StepTolerance& tolerance,
-                    const StepLimit& limit, int max_iterations, int* iterations, int* total) {
+                    const StepLimit& limit, const StationaryRegion& stationary, int max_iterations, int* iterations,
+                    int* total) {
   constexpr int kMaxHalvings = 12;
   state.f = cost(x, &state.g, &state.H, &state.extra);
   while (*iterations < max_iterations) {
@@ -74,6 +88,7 @@ bool minimizeNewton(const Cost& cost, Eigen::Vector3d& x, NewtonState<Extra>& st
     ++*total;
     Eigen::Vector3d step;
     if (!newtonDirection(state.H, state.g, &step)) return false;  // no point matched: nothing to optimise
+    const bool near_optimum = stationary.contains(step);  // judged on the full Newton step, before the limit
     limit.apply(step);
     const double slope = state.g.dot(step);  // < 0 for a descent direction
     // A step below the tolerance is not tested against the score: the score jumps where points
@@ -101,16 +116,16 @@ bool minimizeNewton(const Cost& cost, Eigen::Vector3d& x, NewtonState<Extra>& st
       }
       alpha *= 0.5;
     }
-    const Eigen::Vector3d applied = alpha * step;
     if (!accepted) {
-      // No step along a descent direction improves the score: at the optimum to the score's
-      // resolution when the step has shrunk below the tolerance or the predicted decrease is
-      // negligible, otherwise stuck (not converged). x stays.
-      return tolerance.isSmall(applied) || std::abs(slope) < 1e-6 * std::max(1e-12, std::abs(state.f));
+      // No step along the descent direction improves the score. Converged when the Newton step
+      // (from the gradient and Hessian at x, not from how far the search halved it) lies within
+      // the stationary region or predicts a negligible decrease: x is the optimum to the score's
+      // resolution. Otherwise stuck away from an optimum: not converged. x stays.
+      return near_optimum || std::abs(slope) < 1e-6 * std::max(1e-12, std::abs(state.f));
     }
     // An accepted step is never below the tolerance (those are taken or refused above), so the
     // search goes on from the new x with its derivatives.
-    x += applied;
+    x += alpha * step;
     x.z() = normalizeAngle(x.z());
     if (have_derivatives)
       state = next;

@@ -226,7 +226,10 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
                                with ? &d->information : nullptr, stride);
       };
       detail::NewtonState<detail::NdtDiagnostics> state;
-      stage_converged = detail::minimizeNewton(cost, x, state, tolerance, limit, max_iterations_, &stage_iterations,
+      // A line search that fails within 5 % of a cell of the Newton model's optimum is at the
+      // optimum to the score's resolution; further away it is stuck.
+      const detail::StationaryRegion stationary{0.05 * grid.resolution, 0.01};
+      stage_converged = detail::minimizeNewton(cost, x, state, tolerance, limit, stationary, max_iterations_, &stage_iterations,
                                                &final_num_iterations_);
       if (diagnose) final_state = state;
     }

@@ -13,6 +13,7 @@
 #include "app_common.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/evaluation/scan_statistics.h"
 #include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/sim/radar_sim.h"
 
@@ -50,6 +51,9 @@ std::map<std::string, Setting> settings(sim::WorldOptions& w, sim::ScanningOptio
   m["movers_per_km"] = setting("world", w.movers_per_km, "moving cars and buses per km of path");
   m["bus_share"] = setting("world", w.bus_share, "share of movers that are buses");
   m["mirror"] = setting("world", w.mirror, "1: the seed's world mirrored across the path (same draws; exact on a straight path)");
+  m["back_rows"] = setting("world", w.back_rows, "per side: rows of building walls behind the street's facades (0: none)");
+  m["back_row_spacing"] = setting("world", w.back_row_spacing, "m between those rows (±30 %)");
+  m["back_row_gap_probability"] = setting("world", w.back_row_gap_probability, "per 5–20 m piece of a back row: a gap");
   m["azimuths"] = setting("scanning", s.azimuths, "azimuths a sweep");
   m["bins"] = setting("scanning", s.bins, "range bins an azimuth");
   m["range_resolution"] = setting("scanning", s.range_resolution, "m per bin");
@@ -57,7 +61,7 @@ std::map<std::string, Setting> settings(sim::WorldOptions& w, sim::ScanningOptio
   m["beam_width_deg"] = setting("scanning", s.beam_width_deg, "deg, −3 dB beam width (smearing across azimuths)");
   m["beam_rays"] = setting("scanning", s.beam_rays, "sub-rays cast across ±0.9 beam widths");
   m["range_psf_sigma"] = setting("scanning", s.range_psf_sigma, "m, σ of the range response's main lobe");
-  m["range_sidelobe_db"] = setting("scanning", s.range_sidelobe_db, "dB, range sidelobes relative to the peak");
+  m["range_sidelobe_db"] = setting("scanning", s.range_sidelobe_db, "dB, range sidelobes relative to each bin of a return");
   m["range_sidelobe_length"] = setting("scanning", s.range_sidelobe_length, "m, exponential decay of the sidelobes");
   m["range_loss_db_per_decade"] = setting("scanning", s.range_loss_db_per_decade, "dB power fall per decade of range beyond 10 m");
   m["target_snr_db"] = setting("scanning", s.target_snr_db, "dB over the noise mean of a facade at 10 m, normal incidence");
@@ -75,6 +79,24 @@ std::map<std::string, Setting> settings(sim::WorldOptions& w, sim::ScanningOptio
   m["ground_clutter_db"] = setting("scanning", s.ground_clutter_db, "dB over the noise at 10 m of a cluttered 1 m ground cell (Rayleigh)");
   m["ground_clutter_cover"] = setting("scanning", s.ground_clutter_cover, "share of 1 m ground cells with clutter (grass, kerbs, gravel)");
   m["max_range"] = setting("scanning", s.max_range, "m rendered (beyond: noise only)");
+  m["range_offset_bins"] = setting("scanning", s.range_offset_bins, "bin b lies at (b + offset) · range_resolution");
+  m["display_counts"] = setting("scanning", s.display_counts, "1: Navtech's counts, n = ⌊P⌋ stored as ⌊20·log10 n + 0.12⌋ (0.5 dB a value); 0: the display above");
+  m["noise_counts"] = setting("scanning", s.noise_counts, "mean noise power in counts (display_counts)");
+  m["leakage_length"] = setting("scanning", s.leakage_length, "m, exponential decay of the near-range leakage");
+  m["azimuth_sidelobe_db"] = setting("scanning", s.azimuth_sidelobe_db, "dB, antenna sidelobes in azimuth relative to the main lobe (−200: none)");
+  m["azimuth_sidelobe_width_deg"] = setting("scanning", s.azimuth_sidelobe_width_deg, "deg, exponential fall of the azimuth sidelobes");
+  m["range_pedestal_db"] = setting("scanning", s.range_pedestal_db, "dB below a return of its long range tail, the radial streaks (−200: none)");
+  m["range_pedestal_threshold_db"] = setting("scanning", s.range_pedestal_threshold_db, "dB over the noise above which a return saturates and makes a pedestal (0: every return)");
+  m["ground_clutter_sigma_db"] = setting("scanning", s.ground_clutter_sigma_db, "dB, log-normal spread of the clutter cells' strengths (0: exponential)");
+  m["scatterer_density"] = setting("scanning", s.scatterer_density, "point scatterers off the road a m² (0: none)");
+  m["scatterer_db"] = setting("scanning", s.scatterer_db, "dB, mean scatterer strength relative to a facade at the same range");
+  m["scatterer_sigma_db"] = setting("scanning", s.scatterer_sigma_db, "dB, log-normal spread of the scatterer strengths");
+  m["scatterer_clearance"] = setting("scanning", s.scatterer_clearance, "m, no scatterer closer than this to the path");
+  m["incidence_scale"] = setting("scanning", s.incidence_scale, "scales every material's incidence exponent (power ∝ cos^(exp·scale))");
+  m["depth_scale"] = setting("scanning", s.depth_scale, "scales every material's return depth");
+  m["range_pedestal_length"] = setting("scanning", s.range_pedestal_length, "m, exponential decay of the range pedestal");
+  m["ground_clutter_road_clearance"] = setting("scanning", s.ground_clutter_road_clearance, "m: ground clutter only where the ray is this far from the path (0: everywhere)");
+  m["over_occluder_db"] = setting("scanning", s.over_occluder_db, "dB: what lies behind the first opaque surface returns this much weaker (−200: hidden)");
   m["period"] = setting("automotive", a.period, "s between sweeps of one radar (13 Hz)");
   m["jitter"] = setting("automotive", a.jitter, "s, uniform timing jitter of each sweep");
   m["near_fov_deg"] = setting("automotive", a.near_fov_deg, "deg, ± azimuth of the near scan");
@@ -94,16 +116,28 @@ std::map<std::string, Setting> settings(sim::WorldOptions& w, sim::ScanningOptio
   return m;
 }
 
-std::vector<std::string> radiateScans(const std::string& dir) {
-  fs::path root(dir);
-  if (fs::is_directory(root / "Navtech_Polar")) root /= "Navtech_Polar";
-  if (!fs::is_directory(root)) throw std::invalid_argument("--realism: '" + dir + "' is not a directory");
-  std::vector<std::string> files;
-  for (const auto& e : fs::directory_iterator(root))
-    if (e.path().extension() == ".png") files.push_back(e.path().string());
-  std::sort(files.begin(), files.end());
-  if (files.empty()) throw std::invalid_argument("--realism: no .png scans in '" + root.string() + "'");
-  return files;
+/// The real scans of an Oxford (radar.timestamps, radar/<stamp>.png) or RADIATE (Navtech_Polar/)
+/// sequence directory, and the layout's name.
+std::vector<PolarScan> readRealScans(const std::string& dir, std::string& layout) {
+  const fs::path root(dir);
+  std::vector<PolarScan> scans;
+  if (fs::exists(root / "radar.timestamps")) {
+    layout = "Oxford";
+    for (const OxfordStamp& s : readOxfordTimestamps((root / "radar.timestamps").string()))
+      if (s.valid) scans.push_back(readOxfordPolarPng((root / "radar" / (std::to_string(s.stamp) + ".png")).string()));
+  } else {
+    layout = "RADIATE";
+    fs::path polar = fs::is_directory(root / "Navtech_Polar") ? root / "Navtech_Polar" : root;
+    if (!fs::is_directory(polar)) throw std::invalid_argument("--realism: '" + dir + "' is not a directory");
+    std::vector<std::string> files;
+    for (const auto& e : fs::directory_iterator(polar))
+      if (e.path().extension() == ".png") files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) scans.push_back(readRadiatePolarPng(f));
+  }
+  if (scans.empty())
+    throw std::invalid_argument("--realism: no scans in '" + dir + "' (an Oxford sequence with radar.timestamps, or RADIATE's Navtech_Polar/)");
+  return scans;
 }
 
 std::vector<std::uint8_t> toPixels(const CartesianImage& image) {
@@ -116,7 +150,7 @@ std::vector<std::uint8_t> toPixels(const CartesianImage& image) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string type = "scanning", trajectory_path, out, realism_dir, realism_png;
+  std::string type = "scanning", trajectory_path, out, realism_dir, realism_png, profile_name;
   std::size_t frames = 0, start = 0;
   std::uint64_t seed = 1;
   double period = 0.25, view_range = 62.5;
@@ -134,18 +168,21 @@ int main(int argc, char** argv) {
     ("frames", po::value(&frames)->default_value(0), "scans (scanning) or front-radar sweeps (automotive) to write; 0: the whole trajectory")
     ("start", po::value(&start)->default_value(0), "first trajectory pose used")
     ("seed", po::value(&seed)->default_value(1), "world and noise seed: the same seed gives the same files")
+    ("profile", po::value(&profile_name), "scanning sensor profile: oxford (the CTS350-X as the Oxford dataset recorded it; default) | "
+                                          "radiate (the earlier calibration to RADIATE's scans); --realism: the real layout's by default")
     ("compression", po::value(&compression)->default_value(1), "zlib level of the scan PNGs (1 fast … 9 small)")
     ("set", po::value(&sets)->composing(), "override a simulator setting: --set name=value (repeatable; see --list-settings)")
     ("list-settings", po::bool_switch(&list), "print every simulator setting with its value and meaning, then exit")
-    ("realism", po::value(&realism_dir), "compare: RADIATE Navtech_Polar scans in this directory vs --frames (default 10) simulated scans, "
-                                         "Cartesian 0.125 m/px within 62.5 m; prints the statistics side by side")
-    ("realism-png", po::value(&realism_png), "with --realism: write a simulated scan (left) and the first real one (right) as one PNG")
+    ("realism", po::value(&realism_dir), "compare: the real scans of this Oxford or RADIATE sequence against --frames (default 10) "
+                                         "simulated ones in the same layout (spread over the trajectory from --start); per range band "
+                                         "the share of polar bins above 0.2, 0.333, 0.5 and power percentiles, and the front-end's points")
+    ("realism-png", po::value(&realism_png), "with --realism: write the first real scan (left) and a simulated one (right), Cartesian, as one PNG")
     ("realism-view", po::value(&view_range)->default_value(62.5), "with --realism-png: show ±this many metres around the sensor")
     ("quiet,q", po::bool_switch(&quiet), "no progress line");
   // clang-format on
   const std::string usage =
       "Usage: radar_sim --type scanning|automotive [--trajectory GT.txt] --out DIR [--frames N] [--seed S] [--start K]\n"
-      "       radar_sim --realism RADIATE_DIR [--realism-png side_by_side.png] [--frames N]\n"
+      "       radar_sim --realism OXFORD_OR_RADIATE_DIR [--profile P] [--trajectory GT.txt] [--frames N] [--realism-png out.png]\n"
       "Scanning: DIR/radar/<stamp>.png, DIR/radar.timestamps, DIR/gt/radar_odometry.csv (Oxford conventions)\n"
       "and DIR/gt/poses.txt (KITTI, first pose identity). Automotive: a nuScenes dataroot, tables in\n"
       "DIR/v1.0-sim, five ARS408 radars at nuScenes' mountings. Settings: --list-settings, docs/simulator.md.";
@@ -157,6 +194,15 @@ int main(int argc, char** argv) {
     sim::WorldOptions world;
     sim::ScanningOptions scanning;
     sim::AutomotiveOptions automotive;
+    // --realism: the real scans first, so the profile can default to their layout's.
+    std::string layout;
+    const std::vector<PolarScan> real_scans = realism_dir.empty() ? std::vector<PolarScan>{} : readRealScans(realism_dir, layout);
+    const sim::ScanningProfile profile = !profile_name.empty() ? sim::parseScanningProfile(profile_name)
+                                         : layout == "RADIATE"  ? sim::ScanningProfile::Radiate
+                                                                : sim::ScanningProfile::Oxford;
+    // The profile (sensor and world) for scanning output and --realism; the automotive output keeps
+    // WorldOptions' default world.
+    if (type == "scanning" || !realism_dir.empty()) sim::applyProfile(profile, world, scanning);
     auto table = settings(world, scanning, automotive);
     for (const std::string& s : sets) {
       const auto eq = s.find('=');
@@ -175,10 +221,11 @@ int main(int argc, char** argv) {
       it->second.set(v);
     }
     if (list) {
+      std::printf("profile %s\n", sim::toString(profile));
       for (const char* group : {"world", "scanning", "automotive"}) {
         std::printf("%s:\n", group);
         for (const auto& [name, s] : table)
-          if (s.group == group) std::printf("  %-28s %-10g %s\n", name.c_str(), s.get(), s.help.c_str());
+          if (s.group == group) std::printf("  %-30s %-10g %s\n", name.c_str(), s.get(), s.help.c_str());
       }
       return 0;
     }
@@ -192,81 +239,103 @@ int main(int argc, char** argv) {
 
     if (!realism_dir.empty()) {
       const std::size_t n = frames == 0 ? 10 : frames;
-      PowerThreshold front;  // paper defaults: 0.125 m/px, 62.5 m, threshold 0.333
+      // Simulated scans in the real scans' layout, so both are compared bin for bin.
+      const PolarScan& ref = real_scans.front();
+      scanning.azimuths = ref.azimuths;
+      scanning.bins = ref.bins;
+      scanning.range_resolution = ref.range_resolution;
+      scanning.range_offset_bins = ref.range_offset_bins;
+      const PowerThreshold front;  // the paper's front-end: 0.125 m/px within 62.5 m, threshold 0.333
+      const ScanStatisticsOptions stat_options;
+      pcl::PointCloud<PointRadar> cloud;
+      auto measure = [&](const PolarScan& s) {
+        ScanStatistics st = scanStatistics(s, stat_options);
+        front.compute(s, cloud);
+        st.points = cloud.size();
+        return st;
+      };
+      std::vector<ScanStatistics> real, simulated;
+      std::vector<PowerStatistics> real_image, simulated_image;  // the front-end's Cartesian image
       const float thr = front.options().threshold;
+      for (const PolarScan& s : real_scans) {
+        real.push_back(measure(s));
+        real_image.push_back(powerStatistics(front.cartesianImage(s), thr));
+      }
       const sim::World w = sim::World::generate(ego, world);
-      std::vector<PowerStatistics> simulated, real;
-      PolarScan scan;
-      CartesianImage first_sim;  // the one shown in --realism-png
-      const std::size_t stride = std::max<std::size_t>(1, (ego.size() - std::min(start, ego.size() - 1)) / n);
-      for (std::size_t k = 0; k < n && start + k * stride < ego.size(); ++k) {
-        sim::renderScan(w, ego, ego.stamps()[start + k * stride], seed, k, scanning, scan);
-        const CartesianImage img = front.cartesianImage(scan);
-        simulated.push_back(powerStatistics(img, thr));
-        if (k == n / 2) first_sim = img;  // mid-sequence: under way
+      PolarScan scan, shown;
+      const std::size_t first = std::min(start, ego.size() - 1);
+      const std::size_t stride = std::max<std::size_t>(1, (ego.size() - first) / n);
+      for (std::size_t k = 0; k < n && first + k * stride < ego.size(); ++k) {
+        sim::renderScan(w, ego, ego.stamps()[first + k * stride], seed, k, scanning, scan);
+        simulated.push_back(measure(scan));
+        simulated_image.push_back(powerStatistics(front.cartesianImage(scan), thr));
+        if (k == n / 2) shown = scan;  // mid-sequence: under way
       }
-      const auto files = radiateScans(realism_dir);
-      CartesianImage first_real;
-      PowerThresholdOptions polar_options;
-      polar_options.cartesian = false;
-      const PowerThreshold polar(polar_options);
-      std::vector<double> ms_cartesian, ms_polar, n_polar;
-      for (const auto& f : files) {
-        const PolarScan real_scan = readRadiatePolarPng(f);
-        const CartesianImage img = front.cartesianImage(real_scan);
-        real.push_back(powerStatistics(img, thr));
-        if (real.size() == 1) first_real = img;
-        // The two front-end paths on the same real scan (points and time).
-        pcl::PointCloud<PointRadar> cloud;
-        auto t0 = std::chrono::steady_clock::now();
-        front.compute(real_scan, cloud);
-        auto t1 = std::chrono::steady_clock::now();
-        polar.compute(real_scan, cloud);
-        auto t2 = std::chrono::steady_clock::now();
-        ms_cartesian.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-        ms_polar.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
-        n_polar.push_back(static_cast<double>(cloud.size()));
+      const StatisticsSummary r = summarize(real), m = summarize(simulated);
+      const RealismCheck check = compareRealism(m.median, r.median, stat_options);
+      std::printf("Realism: %zu real %s scans (%s) against %zu simulated (profile %s, %s from pose %zu, seed %llu),\n"
+                  "both %d azimuths x %d bins of %.4f m; median over scans [scan-to-scan min..max]; power = byte/255\n\n",
+                  r.scans, layout.c_str(), realism_dir.c_str(), m.scans, sim::toString(profile), source.c_str(), first,
+                  static_cast<unsigned long long>(seed), ref.azimuths, ref.bins, ref.range_resolution);
+      std::printf("| band | statistic | real | simulated | within |\n|---|---|---|---|---|\n");
+      const RealismTolerance tol;
+      auto frac = [](double x) { char b[32]; std::snprintf(b, sizeof b, "%.4f", x); return std::string(b); };
+      auto pct = [](double x) { char b[32]; std::snprintf(b, sizeof b, "%.3f (%d)", x, static_cast<int>(std::lround(255 * x))); return std::string(b); };
+      for (std::size_t i = 0; i < stat_options.bands.size(); ++i) {
+        const auto &rb = r.median.bands[i], &mb = m.median.bands[i];
+        char band[32];
+        std::snprintf(band, sizeof band, "%g-%g m", rb.band.lo, rb.band.hi);
+        for (std::size_t j = 0; j < stat_options.levels.size(); ++j) {
+          const bool ok = std::abs(mb.above[j] - rb.above[j]) <= std::max(tol.fraction_relative * rb.above[j], tol.fraction_absolute) + 1e-12;
+          std::printf("| %s | above %g | %s [%s..%s] | %s [%s..%s] | %s |\n", band, stat_options.levels[j], frac(rb.above[j]).c_str(),
+                      frac(r.min.bands[i].above[j]).c_str(), frac(r.max.bands[i].above[j]).c_str(), frac(mb.above[j]).c_str(),
+                      frac(m.min.bands[i].above[j]).c_str(), frac(m.max.bands[i].above[j]).c_str(), ok ? "yes" : "NO");
+        }
+        for (std::size_t j = 0; j < stat_options.percentiles.size(); ++j) {
+          const bool ok = std::abs(mb.percentile[j] - rb.percentile[j]) <= tol.percentile_absolute + 1e-9;
+          std::printf("| %s | p%g | %s [%s..%s] | %s [%s..%s] | %s |\n", band, stat_options.percentiles[j], pct(rb.percentile[j]).c_str(),
+                      pct(r.min.bands[i].percentile[j]).c_str(), pct(r.max.bands[i].percentile[j]).c_str(), pct(mb.percentile[j]).c_str(),
+                      pct(m.min.bands[i].percentile[j]).c_str(), pct(m.max.bands[i].percentile[j]).c_str(), ok ? "yes" : "NO");
+        }
       }
-      auto median = [](std::vector<double> v) {
-        std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-        return v[v.size() / 2];
-      };
-      const PowerStatistics s = medianStatistics(simulated), r = medianStatistics(real);
-      std::printf("Realism: median over %zu simulated scans (%s, seed %llu) and %zu real RADIATE scans (%s)\n"
-                  "Cartesian %.3f m/px within %.1f m (from %.1f m), threshold %.3f\n\n",
-                  simulated.size(), source.c_str(), static_cast<unsigned long long>(seed), real.size(), realism_dir.c_str(),
-                  front.options().cartesian_resolution, front.options().max_range, front.options().min_range, thr);
-      std::printf("%-24s %10s %10s %8s  %s\n", "statistic", "simulated", "RADIATE", "ratio", "within ±30 %");
-      auto row = [](const char* name, double a, double b, bool check) {
-        const double ratio = b != 0 ? a / b : 0.0;
-        std::printf("%-24s %10.4f %10.4f %8.2f  %s\n", name, a, b, ratio, check ? (std::abs(ratio - 1) <= 0.3 ? "yes" : "NO") : "-");
-      };
-      row("fraction above thres", s.fraction_above, r.fraction_above, true);
-      row("power p50", s.p50, r.p50, true);
-      row("power p90", s.p90, r.p90, true);
-      row("power p99", s.p99, r.p99, true);
-      // What the power shift weighs (w = p − s, s = thres): the spread of the thresholded powers.
-      row("above: p-thres p50", s.excess_p50, r.excess_p50, true);
-      row("above: p-thres p90", s.excess_p90, r.excess_p90, true);
-      row("above: p-thres p99", s.excess_p99, r.excess_p99, true);
-      row("points per scan", static_cast<double>(s.points), static_cast<double>(r.points), false);
-      std::printf("\nFront-end on the real scans (median): Cartesian %zu points in %.1f ms, polar %.0f points in %.2f ms\n",
-                  r.points, median(ms_cartesian), median(n_polar), median(ms_polar));
+      const bool points_ok = std::abs(static_cast<double>(m.median.points) - static_cast<double>(r.median.points)) <=
+                             tol.points_relative * static_cast<double>(r.median.points);
+      std::printf("| 2-62.5 m | thresholded points per scan | %zu [%zu..%zu] | %zu [%zu..%zu] | %s |\n", r.median.points, r.min.points,
+                  r.max.points, m.median.points, m.min.points, m.max.points, points_ok ? "yes" : "NO");
+      std::printf("\n%zu of %zu within the tolerances (fractions ±25 %% or ±0.002, percentiles ±3/255, points ±25 %%); "
+                  "error %.1f (the sum over the fields of (difference / tolerance)², each capped at 25)\n",
+                  check.fields - check.failures.size(), check.fields, check.error);
+      // The front-end's view: its Cartesian image (0.125 m/px, 2–62.5 m) and what the power shift
+      // weighs, p − thres over the pixels above the threshold (medians over scans).
+      const PowerStatistics ri = medianStatistics(real_image), si = medianStatistics(simulated_image);
+      std::printf("\nThe front-end's Cartesian image (%.3f m/px, %.1f-%.1f m), medians over scans:\n\n"
+                  "| statistic | real | simulated | ratio |\n|---|---|---|---|\n",
+                  front.options().cartesian_resolution, front.options().min_range, front.options().max_range);
+      auto irow = [](const char* name, double a, double b) { std::printf("| %s | %.4f | %.4f | %.2f |\n", name, a, b, a != 0 ? b / a : 0.0); };
+      irow("pixels above the threshold", ri.fraction_above, si.fraction_above);
+      irow("pixel power p50", ri.p50, si.p50);
+      irow("pixel power p90", ri.p90, si.p90);
+      irow("pixel power p99", ri.p99, si.p99);
+      irow("above the threshold: p - thres, p50", ri.excess_p50, si.excess_p50);
+      irow("above the threshold: p - thres, p90", ri.excess_p90, si.excess_p90);
+      irow("above the threshold: p - thres, p99", ri.excess_p99, si.excess_p99);
       if (!realism_png.empty()) {
-        const int full = first_sim.size;
-        if (first_real.size != full) throw std::logic_error("Cartesian images of different sizes");
-        const int size = std::clamp(2 * static_cast<int>(std::lround(view_range / first_sim.resolution)), 2, full);
+        const CartesianImage a = front.cartesianImage(real_scans.front()), b = front.cartesianImage(shown);
+        const int full = a.size;
+        if (b.size != full) throw std::logic_error("Cartesian images of different sizes");
+        const int size = std::clamp(2 * static_cast<int>(std::lround(view_range / a.resolution)), 2, full);
         const int off = (full - size) / 2;
-        const auto a = toPixels(first_sim), b = toPixels(first_real);
+        const auto pa = toPixels(a), pb = toPixels(b);
         const int gap = 8, width = 2 * size + gap;
         std::vector<std::uint8_t> px(static_cast<std::size_t>(width) * size, 255);
         for (int y = 0; y < size; ++y) {
           const std::size_t src = static_cast<std::size_t>(y + off) * full + off;
-          std::copy_n(&a[src], size, &px[static_cast<std::size_t>(y) * width]);
-          std::copy_n(&b[src], size, &px[static_cast<std::size_t>(y) * width + size + gap]);
+          std::copy_n(&pa[src], size, &px[static_cast<std::size_t>(y) * width]);
+          std::copy_n(&pb[src], size, &px[static_cast<std::size_t>(y) * width + size + gap]);
         }
         writePng(realism_png, width, size, 1, px.data(), 9);
-        std::printf("\nwrote %s: simulated (left), %s (right), front up\n", realism_png.c_str(), files.front().c_str());
+        std::printf("\nwrote %s: the first real %s scan (left), a simulated one (right), Cartesian %.3f m/px, front up\n",
+                    realism_png.c_str(), layout.c_str(), a.resolution);
       }
       return 0;
     }

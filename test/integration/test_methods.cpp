@@ -73,7 +73,10 @@ class MethodsOnSimulatedSequences : public ::testing::TestWithParam<MethodCase> 
     sim::SequenceOptions seq;
     seq.start = 40;
     seq.frames = 20;
-    sim::writeScanningSequence(scanning_, sim::builtinDrive(30.0), sim::WorldOptions(), sim::ScanningOptions(), seq);
+    sim::WorldOptions world;
+    sim::ScanningOptions scanning;
+    sim::applyProfile(sim::ScanningProfile::Oxford, world, scanning);  // the calibrated simulator
+    sim::writeScanningSequence(scanning_, sim::builtinDrive(30.0), world, scanning, seq);
     seq.frames = 130;
     sim::writeAutomotiveSequence(automotive_, sim::builtinDrive(30.0), sim::WorldOptions(), sim::AutomotiveOptions(), seq);
     test::copyOxfordSequence(scanning_, faulty_, 14);

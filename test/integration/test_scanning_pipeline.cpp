@@ -53,7 +53,10 @@ class ScanningPipeline : public ::testing::Test {
     sim::SequenceOptions seq;
     seq.start = 40;
     seq.frames = 60;
-    sim::writeScanningSequence(dir_, sim::builtinDrive(30.0), sim::WorldOptions(), sim::ScanningOptions(), seq);
+    sim::WorldOptions world;
+    sim::ScanningOptions scanning;
+    sim::applyProfile(sim::ScanningProfile::Oxford, world, scanning);  // the calibrated simulator
+    sim::writeScanningSequence(dir_, sim::builtinDrive(30.0), world, scanning, seq);
   }
   static void TearDownTestSuite() { std::filesystem::remove_all(dir_); }
   static std::string dir_;
@@ -203,8 +206,9 @@ TEST_F(ScanningPipeline, ThePapersConfigurationReconvergesToTheCleanRunAfterAFau
   // Scan to scan without motion compensation (the paper): a match depends only on its two scans
   // and its guess. A fault leaves a different guess behind for a few frames, which can land the
   // match a few cm away (NDT's optimum moves where points change cells), but then the runs meet
-  // again: the frames from the second after the last fault on move as in the clean run up to float
-  // rounding. (The default pipeline compensates each scan, and so each keyframe, with a velocity
+  // again: the frames from the second after the last fault on move as in the clean run to within
+  // the matcher's stopping tolerance (a match ends once its step is under 1 mm and 0.1 mrad, so
+  // two runs whose guesses differ by a hair end that close to each other, not bit for bit). (The default pipeline compensates each scan, and so each keyframe, with a velocity
   // from matches against compensated scans before it, so its differences persist: test above.)
   const std::string dir = test::freshTempDir("scanning_faults_paper");
   ScanningRunOptions options;
@@ -228,7 +232,7 @@ TEST_F(ScanningPipeline, ThePapersConfigurationReconvergesToTheCleanRunAfterAFau
     const Pose2 d = between(a, b);
     worst_settled = std::max(worst_settled, d.head<2>().norm() + 10.0 * std::abs(d.z()));
   }
-  EXPECT_LT(worst_settled, 1e-6) << "the frames from the second after the last fault on";
+  EXPECT_LT(worst_settled, 2e-3) << "the frames from the second after the last fault on: 1 mm + 10 m x 0.1 mrad";
   std::printf("paper configuration: largest motion change %.2e (not next to a fault), %.2e (from the second "
               "frame after the last fault on), %.3f (next to one)\n",
               worst_far, worst_settled, worst_near);
@@ -260,7 +264,10 @@ TEST(ScanningPipelineFastTurn, MotionCompensationHelps) {
   const std::string dir = test::freshTempDir("scanning_turn");
   sim::SequenceOptions seq;
   seq.frames = 40;
-  sim::writeScanningSequence(dir, turningDrive(10.0, 20.0, 12.0), sim::WorldOptions(), sim::ScanningOptions(), seq);
+  sim::WorldOptions world;
+  sim::ScanningOptions scanning;
+  sim::applyProfile(sim::ScanningProfile::Oxford, world, scanning);
+  sim::writeScanningSequence(dir, turningDrive(10.0, 20.0, 12.0), world, scanning, seq);
   const ScanningSequence sequence(dir, ScanFormat::Oxford);
   ScanningRunOptions on, off;
   off.odometry.compensation.enabled = false;

@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include "radar_ndt/evaluation/scan_statistics.h"
 #include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/sim/radar_sim.h"
 #include "test_support.h"
@@ -31,9 +33,17 @@ sim::SimTrajectory straight(double speed) {
   return sim::SimTrajectory(t, p);
 }
 
-/// Options with no random artefacts (ghosts, saturation lines, ground clutter) for geometric checks.
-sim::ScanningOptions clean() {
+/// The radiate profile's sensor (the plain log display these geometric checks were written for),
+/// with no random artefacts (ghosts, saturation lines, ground clutter). The geometry (ray casting,
+/// per-azimuth timing) is the same code for every profile.
+sim::ScanningOptions radiate() {
+  sim::WorldOptions w;
   sim::ScanningOptions o;
+  sim::applyProfile(sim::ScanningProfile::Radiate, w, o);
+  return o;
+}
+sim::ScanningOptions clean() {
+  sim::ScanningOptions o = radiate();
   o.ghost_probability = 0.0;
   o.saturation_probability = 0.0;
   o.ground_clutter_cover = 0.0;
@@ -275,8 +285,8 @@ TEST(RadarSim, RealismAgainstRadiate) {
     EXPECT_LT(m.points, r.points * 3);
   };
   {
-    SCOPED_TRACE("default settings");
-    const PowerStatistics m = simulate(sim::ScanningOptions());
+    SCOPED_TRACE("the radiate profile");
+    const PowerStatistics m = simulate(radiate());
     expectPixelStatistics(m);
     // The default display is plain log power: the thresholded powers spread about 2–3x wider than
     // RADIATE's (docs/simulator.md, "Realism"). Pinned so that a change to it is a decision, not an accident.
@@ -284,7 +294,7 @@ TEST(RadarSim, RealismAgainstRadiate) {
   }
   {
     SCOPED_TRACE("display_compression = 0.35 (the RADIATE match of docs/simulator.md)");
-    sim::ScanningOptions o;
+    sim::ScanningOptions o = radiate();
     o.display_compression = 0.35;
     const PowerStatistics m = simulate(o);
     expectPixelStatistics(m);
@@ -384,8 +394,12 @@ TEST(OxfordSequence, SimulatedSequenceRoundTrip) {
     EXPECT_EQ(r.power, expected.power) << path;
   }
   for (std::size_t k = 0; k < rows.size(); ++k) {
-    EXPECT_EQ(rows[k].destination, stamps[k].stamp);
-    EXPECT_EQ(rows[k].source, stamps[k + 1].stamp);
+    // As in the dataset: the radar timestamps in their own columns, source_ and
+    // destination_timestamp half a sweep later.
+    EXPECT_EQ(rows[k].destination_radar, stamps[k].stamp);
+    EXPECT_EQ(rows[k].source_radar, stamps[k + 1].stamp);
+    EXPECT_EQ(rows[k].destination, stamps[k].stamp + 125000);
+    EXPECT_EQ(rows[k].source, stamps[k + 1].stamp + 125000);
     // The later scan's pose in the earlier one's frame, in Oxford axes (y right, yaw clockwise).
     const Pose2 d = between(ego.at(ego.stamps()[seq.start + k]), ego.at(ego.stamps()[seq.start + k + 1]));
     EXPECT_NEAR(rows[k].x, d.x(), 1e-9);
@@ -394,4 +408,184 @@ TEST(OxfordSequence, SimulatedSequenceRoundTrip) {
     EXPECT_GT(rows[k].x, 0.5);  // driving forwards
   }
   fs::remove_all(dir);
+}
+
+// ---- the oxford profile: what it adds, each against what the real Oxford scans show ----------
+
+namespace {
+/// The oxford profile's sensor with no scatterers and no ghosts, in a world of given primitives.
+sim::ScanningOptions oxfordBare() {
+  sim::WorldOptions w;
+  sim::ScanningOptions o;
+  sim::applyProfile(sim::ScanningProfile::Oxford, w, o);
+  o.scatterer_density = 0.0;
+  o.ghost_probability = 0.0;
+  return o;
+}
+}  // namespace
+
+TEST(RadarSimOxford, CountsDisplayIsNavtechsStaircaseWithTheNoiseFloorOfTheRealScans) {
+  // No world: noise alone. Navtech stores a count n as ⌊20·log10 n + 0.12⌋, so only 0, 6, 9, 12,
+  // 14, 15, 17, 18, 19, 20, ... occur near the floor (as in the real files), and with a noise mean
+  // of 2.45 counts the share of zeros (n < 2) is 1 − exp(−2 / 2.45) = 0.558.
+  const sim::SimTrajectory ego = straight(1e-9);
+  const sim::World w = sim::World::fromPrimitives(ego, {}, {});
+  PolarScan s;
+  sim::renderScan(w, ego, 0.0, 1, 0, oxfordBare(), s);
+  std::map<int, std::size_t> hist;
+  std::size_t n = 0;
+  for (int a = 0; a < s.azimuths; ++a)
+    for (int b = 0; b < s.bins; ++b)
+      if (s.rangeOf(b) > 5.0) {
+        ++hist[s.row(a)[b]];
+        ++n;
+      }
+  for (int v : {1, 2, 3, 4, 5, 7, 8, 10, 11, 13, 16}) EXPECT_EQ(hist[v], 0u) << "value " << v << " cannot be stored";
+  for (int v : {0, 6, 9, 12, 14, 15}) EXPECT_GT(hist[v], 0u) << v;
+  EXPECT_NEAR(static_cast<double>(hist[0]) / n, 1.0 - std::exp(-2.0 / 2.45), 0.01);
+}
+
+TEST(RadarSimOxford, AzimuthAndRangeResponseOfAPoleFollowTheRealScans) {
+  // A lone pole 20 m ahead. On the real scans a strong isolated return falls, in its neighbouring
+  // azimuths (lower quartile over 2,456 returns), by about 8, 20, 29 and 38 dB at 0.9°, 1.8°, 2.7°
+  // and 3.6°, and along its azimuth by about 31 dB at 0.9 m (docs/simulator.md). Bytes are 0.5 dB.
+  const sim::SimTrajectory ego = straight(1e-9);
+  const sim::World w = sim::World::fromPrimitives(ego, {}, {{{20.0, 0.0}, 0.12, sim::Material::Pole}});
+  const sim::ScanningOptions o = oxfordBare();
+  std::vector<std::vector<double>> fall(5), behind;
+  for (int frame = 0; frame < 15; ++frame) {
+    PolarScan s;
+    sim::renderScan(w, ego, 0.0, 1, static_cast<std::uint64_t>(frame), o, s);
+    auto peak = [&](int a, double lo, double hi) {
+      int best = 0;
+      for (int b = 0; b < s.bins; ++b)
+        if (s.rangeOf(b) >= lo && s.rangeOf(b) <= hi) best = std::max<int>(best, s.row((a + s.azimuths) % s.azimuths)[b]);
+      return best;
+    };
+    // The pole sits between azimuths 399 and 0 (0°, the first azimuth, is at 0.84° right).
+    const int centre = peak(0, 19.7, 20.3) >= peak(399, 19.7, 20.3) ? 0 : 399;
+    const int p0 = peak(centre, 19.7, 20.3);
+    for (int k = 1; k <= 4; ++k) {
+      const int side = centre == 0 ? k : -k;  // away from the other near azimuth
+      fall[k].push_back(0.5 * (p0 - peak(centre + side, 19.7, 20.3)));
+    }
+    fall[0].push_back(0.5 * (p0 - peak(centre, 20.7, 21.0)));  // 0.9 m behind it
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  EXPECT_NEAR(median(fall[1]), 8.0, 5.0);
+  EXPECT_NEAR(median(fall[2]), 20.0, 5.0);
+  EXPECT_NEAR(median(fall[3]), 29.0, 5.0);
+  EXPECT_NEAR(median(fall[4]), 38.0, 6.0);
+  EXPECT_NEAR(median(fall[0]), 31.0, 7.0);
+}
+
+TEST(RadarSimOxford, ScatterersLieOffTheRoadAndBehindFacadesOnlyDimmed) {
+  // An empty straight street (the ego at its start, 100 m of road ahead): along the road
+  // (azimuth 0, forward) only noise and sidelobes, beside it (azimuth 100, to the right) the
+  // scatterer field: far more bins above 0.2.
+  const sim::SimTrajectory ego = straight(10.0);
+  const sim::World w = sim::World::fromPrimitives(ego, {}, {});
+  sim::ScanningOptions o = oxfordBare();
+  o.scatterer_density = 0.16;
+  PolarScan s;
+  sim::renderScan(w, ego, 0.0, 1, 0, o, s);
+  auto above = [&](int a0, int a1) {
+    int n = 0, all = 0;
+    for (int a = a0; a <= a1; ++a)
+      for (int b = 0; b < s.bins; ++b)
+        if (s.rangeOf(b) > 10 && s.rangeOf(b) < 60) {
+          n += s.row((a + s.azimuths) % s.azimuths)[b] > 51;
+          ++all;
+        }
+    return static_cast<double>(n) / all;
+  };
+  EXPECT_LT(above(-2, 2), 0.002) << "along the road";
+  EXPECT_GT(above(90, 110), 0.02) << "beside it";
+  // A facade 8 m to the right hides what is behind it, but only dimmed (over_occluder_db).
+  const sim::World walled = sim::World::fromPrimitives(ego, {{{-100, -8}, {100, -8}, sim::Material::Building}}, {});
+  PolarScan t;
+  sim::renderScan(walled, ego, 0.0, 1, 0, o, t);
+  int open = 0, hidden = 0;
+  for (int a = 90; a <= 110; ++a)
+    for (int b = 0; b < s.bins; ++b)
+      if (s.rangeOf(b) > 20 && s.rangeOf(b) < 60) {
+        open += s.row(a)[b] > 51;
+        hidden += t.row(a)[b] > 51;
+      }
+  EXPECT_LT(hidden, open / 3);
+  EXPECT_GT(hidden, 0);
+}
+
+TEST(RadarSimOxford, BackRowsComeFromTheirOwnRandomStream) {
+  // Rows of buildings behind the street are added after it: the street is the same either way.
+  const sim::SimTrajectory ego = straight(10.0);
+  sim::WorldOptions a;
+  a.seed = 9;
+  sim::WorldOptions b = a;
+  b.back_rows = 3;
+  const sim::World wa = sim::World::generate(ego, a), wb = sim::World::generate(ego, b);
+  ASSERT_GT(wb.segments().size(), wa.segments().size() + 20);
+  for (std::size_t i = 0; i < wa.segments().size(); ++i) {
+    EXPECT_EQ(wa.segments()[i].a, wb.segments()[i].a) << i;
+    EXPECT_EQ(wa.segments()[i].b, wb.segments()[i].b) << i;
+  }
+  for (std::size_t i = wa.segments().size(); i < wb.segments().size(); ++i) {
+    EXPECT_EQ(wb.segments()[i].material, sim::Material::Building);
+    EXPECT_GT(std::abs(wb.segments()[i].a.y()), b.road_half_width_max + 7.0) << i;  // behind the street
+  }
+  EXPECT_EQ(wa.circles().size(), wb.circles().size());
+  EXPECT_EQ(wa.movers().size(), wb.movers().size());
+}
+
+TEST(RadarSimOxford, ProfileReproducesTheRealOxfordScansOnADriveItWasNotCalibratedOn) {
+  // The realism report's comparison (radar_sim --realism) on 8 scans of a drive and seed the profile
+  // was not calibrated on, against the 11 real Oxford scans: most of the 25 fields within the
+  // scanning issue's tolerances and a small error (docs/simulator.md gives every field); the
+  // radiate profile, calibrated to RADIATE, fails almost all of them.
+  const std::string real_dir = std::string(RADAR_NDT_SHARED_DATA) + "/oxford-radar-real";
+  const std::string drive = std::string(RADAR_NDT_SHARED_DATA) + "/oxford-radar-gt/2019-01-16-13-42-28.txt";
+  if (!fs::exists(real_dir) || !fs::exists(drive)) GTEST_SKIP() << "no " << real_dir << " (../shared/data is absent)";
+  const PowerThreshold front;
+  const ScanStatisticsOptions options;
+  pcl::PointCloud<PointRadar> cloud;
+  auto measure = [&](const PolarScan& s) {
+    ScanStatistics st = scanStatistics(s, options);
+    front.compute(s, cloud);
+    st.points = cloud.size();
+    return st;
+  };
+  std::vector<ScanStatistics> real;
+  for (const OxfordStamp& st : readOxfordTimestamps(real_dir + "/radar.timestamps"))
+    real.push_back(measure(readOxfordPolarPng(real_dir + "/radar/" + std::to_string(st.stamp) + ".png")));
+  const ScanStatistics r = summarize(real).median;
+  const sim::SimTrajectory ego(readTrajectory(drive), 0.25);
+  auto fieldsWithin = [&](sim::ScanningProfile profile) -> RealismCheck {
+    sim::WorldOptions wo;
+    wo.seed = 2;
+    sim::ScanningOptions so;
+    sim::applyProfile(profile, wo, so);
+    const sim::World w = sim::World::generate(ego, wo);
+    std::vector<ScanStatistics> simulated;
+    PolarScan s;
+    const std::size_t stride = (ego.size() - 5000) / 8;  // spread over the rest of the drive, as radar_sim --realism
+    for (std::size_t k = 0; k < 8; ++k) {
+      sim::renderScan(w, ego, ego.stamps()[5000 + stride * k], wo.seed, k, so, s);
+      simulated.push_back(measure(s));
+    }
+    const RealismCheck c = compareRealism(summarize(simulated).median, r, options);
+    for (const auto& f : c.failures) std::printf("  %s: %s\n", sim::toString(profile), f.c_str());
+    std::printf("%s: %zu of %zu fields within the tolerances, error %.1f\n", sim::toString(profile), c.fields - c.failures.size(),
+                c.fields, c.error);
+    return c;
+  };
+  const RealismCheck oxford = fieldsWithin(sim::ScanningProfile::Oxford);
+  // 25 fields at the edge of their tolerances would give an error of 25; without the scatterer
+  // field, the azimuth sidelobes or the returns from behind facades the error is 35 to 95.
+  EXPECT_GE(oxford.fields - oxford.failures.size(), 20u);
+  EXPECT_LT(oxford.error, 30.0);
+  const RealismCheck radiate = fieldsWithin(sim::ScanningProfile::Radiate);
+  EXPECT_LE(radiate.fields - radiate.failures.size(), 5u);
 }

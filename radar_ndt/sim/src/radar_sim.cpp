@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <future>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -58,7 +59,7 @@ bool specular(std::uint64_t seed, std::uint32_t id, double probability) {
 
 /// The ground-clutter field at a world point: bilinear between 1 m cells, each cluttered with
 /// probability `cover` at an exponentially distributed strength of mean 1 (fixed per seed).
-double groundClutter(std::uint64_t seed, const Eigen::Vector2d& q, double cover) {
+double groundClutter(std::uint64_t seed, const Eigen::Vector2d& q, double cover, double sigma_ln) {
   const double fx = std::floor(q.x()), fy = std::floor(q.y());
   const double ux = q.x() - fx, uy = q.y() - fy;
   const long ix = static_cast<long>(fx), iy = static_cast<long>(fy);
@@ -67,10 +68,46 @@ double groundClutter(std::uint64_t seed, const Eigen::Vector2d& q, double cover)
                       (static_cast<std::uint64_t>(y) * 0xc2b2ae3d27d4eb4fULL);
     const std::uint64_t r = splitmix64(h);
     const double a = static_cast<double>(r >> 40) * 0x1.0p-24, b = (static_cast<double>(r & 0xffffff) + 0.5) * 0x1.0p-24;
-    return a < cover ? -std::log(b) : 0.0;
+    if (!(a < cover)) return 0.0;
+    if (sigma_ln <= 0.0) return -std::log(b);
+    // Log-normal of mean 1, its normal variate by Box–Muller from b and a second draw.
+    const std::uint64_t r2 = splitmix64(h);
+    const double c = (static_cast<double>(r2 >> 11) + 0.5) * 0x1.0p-53;
+    const double z = std::sqrt(-2.0 * std::log(b)) * std::cos(2.0 * kPi * c);
+    return std::exp(sigma_ln * z - 0.5 * sigma_ln * sigma_ln);
   };
   return (1 - ux) * (1 - uy) * cell(ix, iy) + ux * (1 - uy) * cell(ix + 1, iy) + (1 - ux) * uy * cell(ix, iy + 1) +
          ux * uy * cell(ix + 1, iy + 1);
+}
+
+/// A point scatterer of the fixed scatterer field.
+struct Scatterer {
+  Eigen::Vector2d p;
+  double db;  ///< strength relative to the field's mean level
+};
+
+/// The scatterers of the 10 m cell (ix, iy): a Poisson number of them (mean density · 100 m²),
+/// uniform in the cell, normal strengths in dB; fixed per seed.
+void cellScatterers(std::uint64_t seed, long ix, long iy, double density, double sigma_db, std::vector<Scatterer>& out) {
+  constexpr double kCell = 10.0;
+  std::uint64_t h = seed * 0x94d049bb133111ebULL ^ (static_cast<std::uint64_t>(ix) * 0x9e3779b97f4a7c15ULL) ^
+                    (static_cast<std::uint64_t>(iy) * 0xc2b2ae3d27d4eb4fULL) ^ 0x5ca77e4ULL;
+  auto uniform = [&h] { return (static_cast<double>(splitmix64(h) >> 11) + 0.5) * 0x1.0p-53; };
+  // Poisson by inversion (means up to a few tens).
+  const double mean = density * kCell * kCell;
+  double u = uniform(), p = std::exp(-mean), cum = p;
+  int n = 0;
+  while (u > cum && n < 1000) {
+    ++n;
+    p *= mean / n;
+    cum += p;
+  }
+  for (int i = 0; i < n; ++i) {
+    Scatterer s;
+    s.p = Eigen::Vector2d((static_cast<double>(ix) + uniform()) * kCell, (static_cast<double>(iy) + uniform()) * kCell);
+    s.db = sigma_db * std::sqrt(-2.0 * std::log(uniform())) * std::cos(2.0 * kPi * uniform());
+    out.push_back(s);
+  }
 }
 
 bool mirrors(Material m) { return m == Material::Building || m == Material::Car || m == Material::Bus || m == Material::Wall; }
@@ -86,6 +123,28 @@ const std::vector<float>& exponentialDbTable() {
     return t;
   }();
   return table;
+}
+
+/// Exp(1) variates tabulated on 2^16 quantiles (the counts display's noise and speckle).
+const std::vector<float>& exponentialTable() {
+  static const std::vector<float> table = [] {
+    std::vector<float> t(1 << 16);
+    for (std::size_t i = 0; i < t.size(); ++i) t[i] = static_cast<float>(-std::log((static_cast<double>(i) + 0.5) / t.size()));
+    return t;
+  }();
+  return table;
+}
+
+/// Navtech's stored value of a count n: ⌊20·log10 n + 0.12⌋, 0 below 1, at most 255.
+std::uint8_t countByte(double n) {
+  static const std::vector<std::uint8_t> table = [] {
+    std::vector<std::uint8_t> t(4096, 0);
+    for (std::size_t k = 1; k < t.size(); ++k)
+      t[k] = static_cast<std::uint8_t>(std::min(255.0, std::floor(20.0 * std::log10(static_cast<double>(k)) + 0.12)));
+    return t;
+  }();
+  if (n < 4096.0) return n >= 1.0 ? table[static_cast<std::size_t>(n)] : 0;
+  return static_cast<std::uint8_t>(std::min(255.0, std::floor(20.0 * std::log10(n) + 0.12)));
 }
 
 std::string token(std::uint64_t seed, std::uint64_t kind, std::uint64_t index) {
@@ -106,6 +165,61 @@ std::int64_t toMicros(double seconds) { return static_cast<std::int64_t>(std::ll
 
 }  // namespace
 
+// ---- sensor profiles --------------------------------------------------------------------------
+
+ScanningProfile parseScanningProfile(const std::string& name) {
+  if (name == "oxford") return ScanningProfile::Oxford;
+  if (name == "radiate") return ScanningProfile::Radiate;
+  throw std::invalid_argument("unknown scanning profile '" + name + "' (oxford or radiate)");
+}
+
+const char* toString(ScanningProfile profile) { return profile == ScanningProfile::Oxford ? "oxford" : "radiate"; }
+
+void applyProfile(ScanningProfile profile, WorldOptions& w, ScanningOptions& s) {
+  // The world and sensor settings a profile owns; the seed, geometry and timing stay.
+  const std::uint64_t seed = w.seed;
+  w = WorldOptions();
+  w.seed = seed;
+  const ScanningOptions kept = s;
+  s = ScanningOptions();
+  s.azimuths = kept.azimuths;
+  s.bins = kept.bins;
+  s.range_resolution = kept.range_resolution;
+  s.range_offset_bins = kept.range_offset_bins;
+  s.sweep_period = kept.sweep_period;
+  s.encoder_size = kept.encoder_size;
+  s.max_range = kept.max_range;
+  if (profile == ScanningProfile::Oxford) {
+    // The sensor: ScanningOptions' defaults. The world it was calibrated in: a dense city.
+    w.road_half_width_min = 3.0;
+    w.road_half_width_max = 14.0;
+    w.building_probability = 0.8;
+    w.parked_car_probability = 0.2;
+    w.back_rows = 3.0;
+    return;
+  }
+  // Radiate: the earlier calibration against RADIATE's foggy scans (plain log display), in
+  // WorldOptions' default world.
+  s.beam_width_deg = 2.0;
+  s.range_psf_sigma = 0.12;
+  s.range_sidelobe_db = -30.0;
+  s.range_sidelobe_length = 1.0;
+  s.range_loss_db_per_decade = 10.0;
+  s.target_snr_db = 30.0;
+  s.noise_rise_db = 3.5;
+  s.display_knee_db = 10.0;
+  s.display_compression = 1.0;
+  s.saturation_probability = 0.002;
+  s.leakage_db = 34.0;
+  s.ground_clutter_cover = 0.4;
+  s.display_counts = 0.0;
+  s.azimuth_sidelobe_db = -200.0;
+  s.range_pedestal_db = -200.0;
+  s.over_occluder_db = -200.0;
+  s.scatterer_density = 0.0;
+  s.depth_scale = 1.0;
+}
+
 // ---- scanning radar ---------------------------------------------------------------------------
 
 void renderScan(const World& world, const SimTrajectory& ego, double t, std::uint64_t seed, std::uint64_t frame,
@@ -114,10 +228,15 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
     throw std::invalid_argument("radar_sim: azimuths, bins, range resolution, sweep period and beam rays must be positive");
   if (!(o.display_compression > 0 && o.display_compression <= 1) || !std::isfinite(o.display_knee_db))
     throw std::invalid_argument("radar_sim: display_compression must be in (0, 1] and display_knee_db finite");
+  if (!(o.noise_counts > 0) || !(o.leakage_length > 0) || !(o.azimuth_sidelobe_width_deg > 0) || !(o.range_pedestal_length > 0) ||
+      !(o.ground_clutter_road_clearance >= 0) || !(o.range_offset_bins >= 0))
+    throw std::invalid_argument(
+        "radar_sim: noise_counts, leakage_length, azimuth_sidelobe_width_deg and range_pedestal_length must be > 0, "
+        "ground_clutter_road_clearance and range_offset_bins >= 0");
   Random rng(seed, 0x5ca7000000000000ULL + frame);
   const OxfordPolarOptions oxford;
   const int A = o.azimuths, B = o.bins;
-  const double res = o.range_resolution, offset = oxford.convention.range_offset_bins;
+  const double res = o.range_resolution, offset = o.range_offset_bins;
   scan.azimuths = A;
   scan.bins = B;
   scan.range_resolution = res;
@@ -146,41 +265,34 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
   const double sigma = std::max(o.range_psf_sigma, 1e-3);
   const double sidelobe = dbToLinear(o.range_sidelobe_db);
   const double side_decay = std::exp(-res / std::max(o.range_sidelobe_length, 1e-3));
+  const bool pedestal_on = o.range_pedestal_db > -199.0;
+  const double pedestal = pedestal_on ? dbToLinear(o.range_pedestal_db) : 0.0;
+  const double pedestal_decay = std::exp(-res / o.range_pedestal_length);
+  const bool over_on = o.over_occluder_db > -199.0;
+  const double over = over_on ? dbToLinear(o.over_occluder_db) : 0.0;
   const double leakage = dbToLinear(o.leakage_db), saturation = dbToLinear(o.saturation_db);
+  const double leak_range = 6.0 * o.leakage_length;  // beyond it the leakage is below 1e-2.6 of its peak: not added
   const auto& exp_db = exponentialDbTable();
-  std::vector<double> signal(B), forward(B), backward(B);
+  std::vector<double> forward(B), backward(B);
   std::vector<float> noise_db(B);
   std::vector<double> noise_lin(B), range_gain(B);
   const double clutter = o.ground_clutter_cover > 0 ? dbToLinear(o.ground_clutter_db) : 0.0;
+  const double clutter_sigma_ln = o.ground_clutter_sigma_db * std::log(10.0) / 10.0;
+  const double pedestal_threshold = o.range_pedestal_threshold_db > 0 ? dbToLinear(o.range_pedestal_threshold_db) : 0.0;
+  std::vector<double> excess(B);
   for (int b = 0; b < B; ++b) {
     const double r = (b + offset) * res;
     noise_db[b] = static_cast<float>(o.noise_rise_db * std::min(r / max_range, 1.0));
     noise_lin[b] = dbToLinear(noise_db[b]);
     range_gain[b] = dbToLinear(-o.range_loss_db_per_decade * std::log10(std::max(r, 10.0) / 10.0));
   }
-  std::vector<Hit> hits, bounce;
+  std::vector<Hit> hits, bounce, behind;
 
-  // Adds a return of linear power `p` spread over [r, r + depth] and blurred by the range PSF.
-  auto addReturn = [&](double r, double depth, double p) {
-    const double lo = r - 4.0 * sigma, hi = r + depth + 4.0 * sigma;
-    const int b0 = std::max(0, static_cast<int>(std::floor(lo / res - offset)));
-    const int b1 = std::min(B - 1, static_cast<int>(std::ceil(hi / res - offset)));
-    const double norm = sigma * std::sqrt(2.0 * kPi) / std::max(depth, 1e-3);
-    for (int b = b0; b <= b1; ++b) {
-      const double x = (b + offset) * res - r;
-      const double k = depth > 1e-3 ? (phi(x / sigma) - phi((x - depth) / sigma)) * norm
-                                     : std::exp(-0.5 * (x / sigma) * (x / sigma));
-      signal[b] += p * k;
-    }
-  };
-  // Power (linear, over the noise mean) of a hit at range r, before the beam gain.
-  auto hitPower = [&](const Hit& h, double r) {
-    const MaterialModel& m = materialModel(h.material);
-    double db = o.target_snr_db + m.reflect_db - o.range_loss_db_per_decade * std::log10(std::max(r, 10.0) / 10.0);
-    if (m.incidence_exp > 0) db += 10.0 * m.incidence_exp * std::log10(std::max(h.cos_incidence, 0.03));
-    return dbToLinear(db);
-  };
-
+  // Pass 1, per azimuth: the received signal (linear power over the noise mean at 0 m) from ray
+  // casting, with the range response; where the central ray is stopped and where it leaves the road.
+  std::vector<double> signal_all(static_cast<std::size_t>(A) * B, 0.0);
+  std::vector<double> occluded_at(A), road_exit(A, 0.0);
+  std::vector<Eigen::Vector2d> origins(A), directions(A);
   for (int a = 0; a < A; ++a) {
     scan.encoder[a] = static_cast<std::uint16_t>((static_cast<long>(a) * oxford.encoder_size / A) % oxford.encoder_size);
     scan.angle[a] = oxford.convention.toVehicleAngle(2.0 * kPi * scan.encoder[a] / oxford.encoder_size);
@@ -188,22 +300,43 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
     scan.stamp_us[a] = toMicros(ta);  // re-based by the caller
     const Pose2 pose = ego.at(ta);
     const Eigen::Vector2d origin = pose.head<2>();
-    std::fill(signal.begin(), signal.end(), 0.0);
+    double* signal = &signal_all[static_cast<std::size_t>(a) * B];
     double occluded = max_range;  // the central ray's first opaque surface (ground clutter stops there)
+
+    // Adds a return of linear power `p` spread over [r, r + depth] and blurred by the range PSF.
+    auto addReturn = [&](double r, double depth, double p) {
+      const double lo = r - 4.0 * sigma, hi = r + depth + 4.0 * sigma;
+      const int b0 = std::max(0, static_cast<int>(std::floor(lo / res - offset)));
+      const int b1 = std::min(B - 1, static_cast<int>(std::ceil(hi / res - offset)));
+      const double norm = sigma * std::sqrt(2.0 * kPi) / std::max(depth, 1e-3);
+      for (int b = b0; b <= b1; ++b) {
+        const double x = (b + offset) * res - r;
+        const double k = depth > 1e-3 ? (phi(x / sigma) - phi((x - depth) / sigma)) * norm
+                                       : std::exp(-0.5 * (x / sigma) * (x / sigma));
+        signal[b] += p * k;
+      }
+    };
+    // Power (linear, over the noise mean) of a hit at range r, before the beam gain.
+    auto hitPower = [&](const Hit& h, double r) {
+      const MaterialModel& m = materialModel(h.material);
+      double db = o.target_snr_db + m.reflect_db - o.range_loss_db_per_decade * std::log10(std::max(r, 10.0) / 10.0);
+      if (m.incidence_exp > 0) db += 10.0 * m.incidence_exp * o.incidence_scale * std::log10(std::max(h.cos_incidence, 0.03));
+      return dbToLinear(db);
+    };
 
     for (int j = 0; j < o.beam_rays; ++j) {
       const double angle = pose.z() + scan.angle[a] + ray_offset[j];
       world.cast(origin, angle, ta, max_range, movers, hits);
       double through = 1.0;  // share of the power left after transmissive hits
-      if (j == o.beam_rays / 2 && !hits.empty() && materialModel(hits.back().material).transmission <= 0.0)
-        occluded = hits.back().range;
+      const bool central = j == o.beam_rays / 2;
+      if (central && !hits.empty() && materialModel(hits.back().material).transmission <= 0.0) occluded = hits.back().range;
       for (const Hit& h : hits) {
-        addReturn(h.range, h.depth, ray_gain[j] * through * hitPower(h, h.range));
+        addReturn(h.range, h.depth * o.depth_scale, ray_gain[j] * through * hitPower(h, h.range));
         through *= materialModel(h.material).transmission;
       }
       // Multipath: the central ray bounces off a mirroring surface; what it meets next shows up
       // behind the mirror at the total path length.
-      if (j == o.beam_rays / 2 && !hits.empty() && o.ghost_probability > 0) {
+      if (central && !hits.empty() && o.ghost_probability > 0) {
         const Hit& h = hits.back();
         if (mirrors(h.material) && h.cos_incidence > 0.25 && specular(seed, h.id, o.ghost_probability)) {
           const Eigen::Vector2d d(std::cos(angle), std::sin(angle));
@@ -213,8 +346,26 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
           if (!bounce.empty()) {
             const Hit& g = bounce.back();
             const double r = h.range + g.range;
-            if (r < max_range) addReturn(r, g.depth, hitPower(g, r) * dbToLinear(-o.ghost_attenuation_db));
+            if (r < max_range) addReturn(r, g.depth * o.depth_scale, hitPower(g, r) * dbToLinear(-o.ghost_attenuation_db));
           }
+        }
+      }
+      // Over the occluder: what the central ray would meet behind its first opaque surface returns
+      // attenuated (taller structures behind nearer ones), up to two layers deep.
+      if (central && over_on && occluded < max_range) {
+        const Eigen::Vector2d d(std::cos(angle), std::sin(angle));
+        double start = occluded, gain = over * ray_gain[j];
+        for (int layer = 0; layer < 2 && start < max_range - 0.5 && gain > 1e-12; ++layer) {
+          world.cast(origin + (start + 0.3) * d, angle, ta, max_range - start - 0.3, movers, behind);
+          double pass = 1.0;
+          for (const Hit& h : behind) {
+            const double r = start + 0.3 + h.range;
+            addReturn(r, h.depth * o.depth_scale, gain * pass * hitPower(h, r));
+            pass *= materialModel(h.material).transmission;
+          }
+          if (behind.empty() || materialModel(behind.back().material).transmission > 0.0) break;
+          start += 0.3 + behind.back().range;
+          gain *= over;
         }
       }
     }
@@ -227,19 +378,134 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
       for (int b = B - 2; b >= 0; --b) backward[b] = signal[b] + side_decay * backward[b + 1];
       for (int b = 0; b < B; ++b) signal[b] += sidelobe * (forward[b] + backward[b] - 2.0 * signal[b]);
     }
-    const bool saturated = rng.chance(o.saturation_probability);
+    if (pedestal_on) {
+      // The same recursion with the long decay, on what saturates the receiver: radial streaks
+      // behind (and before) the strongest returns.
+      for (int b = 0; b < B; ++b) excess[b] = std::max(signal[b] - pedestal_threshold, 0.0);
+      forward[0] = excess[0];
+      for (int b = 1; b < B; ++b) forward[b] = excess[b] + pedestal_decay * forward[b - 1];
+      backward[B - 1] = excess[B - 1];
+      for (int b = B - 2; b >= 0; --b) backward[b] = excess[b] + pedestal_decay * backward[b + 1];
+      for (int b = 0; b < B; ++b) signal[b] += pedestal * (forward[b] + backward[b] - excess[b]);
+    }
+    occluded_at[a] = occluded;
+    origins[a] = origin;
     const double beam_angle = pose.z() + scan.angle[a];
-    const Eigen::Vector2d dir(std::cos(beam_angle), std::sin(beam_angle));
+    directions[a] = Eigen::Vector2d(std::cos(beam_angle), std::sin(beam_angle));
+    if (o.ground_clutter_road_clearance > 0) {
+      // Where the ray leaves the road: the first point along it (1 m steps) this far from the path.
+      double r = 0.0;
+      while (r < max_range && world.pathDistance(origin + r * directions[a]) < o.ground_clutter_road_clearance) r += 1.0;
+      road_exit[a] = r;
+    }
+  }
+
+  // Pass 1b: the scatterer field, splatted through the beam's main lobe (Gaussian in azimuth) and
+  // the range response; each is seen from the pose of the azimuth that looks at it (motion
+  // distortion), attenuated behind that azimuth's first opaque surface.
+  if (o.scatterer_density > 0) {
+    std::vector<Scatterer> field;
+    const double reach = max_range + 2.0;
+    const long x0 = static_cast<long>(std::floor((centre.x() - reach) / 10.0)), x1 = static_cast<long>(std::floor((centre.x() + reach) / 10.0));
+    const long y0 = static_cast<long>(std::floor((centre.y() - reach) / 10.0)), y1 = static_cast<long>(std::floor((centre.y() + reach) / 10.0));
+    for (long ix = x0; ix <= x1; ++ix)
+      for (long iy = y0; iy <= y1; ++iy) cellScatterers(seed, ix, iy, o.scatterer_density, o.scatterer_sigma_db, field);
+    const double step = 2.0 * kPi / A;
+    const int spread = std::max(1, static_cast<int>(std::ceil(3.0 * beam_sigma / step)));
+    for (const Scatterer& sc : field) {
+      if ((sc.p - centre.head<2>()).norm() > reach) continue;
+      if (world.pathDistance(sc.p) < o.scatterer_clearance) continue;
+      // The azimuth looking at it: from the mid-sweep pose, then once more from that azimuth's pose.
+      int a = 0;
+      Pose2 pose = centre;
+      for (int iter = 0; iter < 2; ++iter) {
+        const Eigen::Vector2d d = sc.p - pose.head<2>();
+        const double sensor = oxford.convention.toSensorAzimuth(normalizeAngle(std::atan2(d.y(), d.x()) - pose.z()));
+        a = static_cast<int>(std::lround(sensor / step)) % A;
+        pose = ego.at(t + a * o.sweep_period / A);
+      }
+      const Eigen::Vector2d d = sc.p - pose.head<2>();
+      const double r = d.norm();
+      if (r >= max_range || r < 0.5) continue;
+      const double bearing = std::atan2(d.y(), d.x()) - pose.z();
+      const double p_db = o.target_snr_db + o.scatterer_db + sc.db - o.range_loss_db_per_decade * std::log10(std::max(r, 10.0) / 10.0);
+      const double power = dbToLinear(p_db);
+      const int b0 = std::max(0, static_cast<int>(std::floor((r - 4.0 * sigma) / res - offset)));
+      const int b1 = std::min(B - 1, static_cast<int>(std::ceil((r + 4.0 * sigma) / res - offset)));
+      for (int k = -spread; k <= spread; ++k) {
+        const int ak = ((a + k) % A + A) % A;
+        const double off = normalizeAngle(bearing - scan.angle[ak]);
+        const double g = power * std::exp(-0.5 * (off / beam_sigma) * (off / beam_sigma)) * (r < occluded_at[ak] ? 1.0 : over);
+        if (g < 1e-3) continue;
+        double* signal = &signal_all[static_cast<std::size_t>(ak) * B];
+        for (int b = b0; b <= b1; ++b) {
+          const double x = (b + offset) * res - r;
+          signal[b] += g * std::exp(-0.5 * (x / sigma) * (x / sigma));
+        }
+      }
+    }
+  }
+
+  // Pass 2: antenna sidelobes in azimuth (circular over the sweep).
+  if (o.azimuth_sidelobe_db > -199.0) {
+    const double level = dbToLinear(o.azimuth_sidelobe_db);
+    const double step = 2.0 * kPi / A, width = o.azimuth_sidelobe_width_deg * kDeg;
+    // Taps out to where the sidelobe falls below −50 dB of the return.
+    const int K = std::max(1, std::min(A / 2 - 1, static_cast<int>(std::ceil(width * std::log(std::max(level, 1e-5) / 1e-5) / step))));
+    std::vector<double> w(K + 1, 0.0);
+    for (int k = 1; k <= K; ++k) w[k] = level * std::exp(-k * step / width);
+    std::vector<double> spread(static_cast<std::size_t>(A) * B, 0.0);
+    for (int a = 0; a < A; ++a) {
+      const double* src = &signal_all[static_cast<std::size_t>(a) * B];
+      for (int k = 1; k <= K; ++k) {
+        double* left = &spread[static_cast<std::size_t>((a + k) % A) * B];
+        double* right = &spread[static_cast<std::size_t>((a - k + A) % A) * B];
+        for (int b = 0; b < B; ++b) {
+          const double v = w[k] * src[b];
+          left[b] += v;
+          right[b] += v;
+        }
+      }
+    }
+    for (std::size_t i = 0; i < signal_all.size(); ++i) signal_all[i] += spread[i];
+  }
+
+  // Pass 3, per azimuth: leakage, noise, ground clutter, speckle and the display.
+  const bool counts = o.display_counts != 0.0;
+  const double count_scale = o.noise_counts;
+  const auto& exp_table = exponentialTable();
+  const double knee_lin = o.display_compression < 1.0 ? dbToLinear(o.display_knee_db) : std::numeric_limits<double>::infinity();
+  for (int a = 0; a < A; ++a) {
+    const double* signal = &signal_all[static_cast<std::size_t>(a) * B];
+    const bool saturated = rng.chance(o.saturation_probability);
+    const Eigen::Vector2d& origin = origins[a];
+    const Eigen::Vector2d& dir = directions[a];
+    const double occluded = occluded_at[a];
     std::uint8_t* row = scan.row(a);
     for (int b = 0; b < B; ++b) {
       const double r = (b + offset) * res;
       double s = signal[b];
-      if (r < 3.0) s += leakage * std::exp(-r / 0.5);
+      if (r < leak_range) s += leakage * std::exp(-r / o.leakage_length);
       // Noise and Rayleigh ground clutter add up to one exponential of their summed mean.
       double mean = noise_lin[b];
-      if (clutter > 0 && r < occluded) {
-        const double c = groundClutter(seed, origin + r * dir, o.ground_clutter_cover);
-        if (c > 0) mean += clutter * range_gain[b] * c;
+      if (clutter > 0 && r >= road_exit[a] && (r < occluded || over_on)) {
+        const double c = groundClutter(seed, origin + r * dir, o.ground_clutter_cover, clutter_sigma_ln);
+        if (c > 0) mean += clutter * range_gain[b] * c * (r < occluded ? 1.0 : over);
+      }
+      if (counts) {
+        // Navtech's counts: linear power in counts, tabulated exponentials for the noise and the
+        // speckle (Gamma of `speckle_looks` = 2 as the mean of two exponentials), the stored value
+        // by table. A signal below 2 % of the noise mean is left to the noise.
+        double i = mean * exp_table[rng.next() >> 48];
+        if (s >= 0.02 || saturated) {
+          const double speckle = o.speckle_looks == 2.0 ? 0.5 * (exp_table[rng.next() >> 48] + exp_table[rng.next() >> 48])
+                                                         : gammaMeanOne(rng, o.speckle_looks);
+          i += s * speckle;
+          if (saturated) i += saturation * (0.8 + 0.4 * rng.uniform());
+        }
+        if (i > knee_lin) i = knee_lin * std::pow(i / knee_lin, o.display_compression);
+        row[b] = countByte(std::floor(count_scale * i));
+        continue;
       }
       double db;
       if (s < 1e-3 && !saturated) {
@@ -301,9 +567,12 @@ SequenceSummary writeScanningSequence(const std::string& dir, const SimTrajector
     poses << c << ' ' << -s << " 0 " << rel.x() << ' ' << s << ' ' << c << " 0 " << rel.y() << " 0 0 1 0\n";
     if (k > 0) {
       const Pose2 d = between(previous, pose);  // the later scan in the earlier one's frame
+      // As the dataset writes them: source/destination_timestamp half a sweep after the scans'
+      // radar timestamps (its poses are mid-sweep), the radar timestamps in their own columns.
+      const std::int64_t half_sweep = toMicros(0.5 * options.sweep_period);
       OxfordRelativePose row;
-      row.source = stamp;
-      row.destination = previous_stamp;
+      row.source = stamp + half_sweep;
+      row.destination = previous_stamp + half_sweep;
       row.x = d.x();
       row.y = -d.y();  // Oxford axes: y right, z down
       row.yaw = -d.z();

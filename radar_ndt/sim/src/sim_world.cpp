@@ -181,8 +181,6 @@ const MaterialModel& materialModel(Material m) {
 
 // ---- world generation --------------------------------------------------------------------------
 
-namespace {
-
 /// Distance from a point to the nearest sampled path position (for keeping the road clear).
 class PathClearance {
  public:
@@ -211,6 +209,9 @@ class PathClearance {
   std::unordered_map<std::int64_t, std::vector<Eigen::Vector2d>> grid_;
 };
 
+
+namespace {
+
 Eigen::Vector2d offsetPoint(const SimTrajectory& path, double s, double lateral) {
   const Pose2 p = path.atArc(s);
   return Eigen::Vector2d(p.x() - lateral * std::sin(p.z()), p.y() + lateral * std::cos(p.z()));
@@ -227,7 +228,8 @@ World World::generate(const SimTrajectory& path, const WorldOptions& o) {
   // same random draws, so a seed gives the mirror image of its world (exact on a straight path).
   const double mirror = o.mirror != 0.0 ? -1.0 : 1.0;
   auto mirroredAngle = [&](double s, double a) { return mirror > 0 ? a : 2.0 * path.atArc(s).z() - a; };
-  const PathClearance clearance(path);
+  w.clearance_ = std::make_shared<const PathClearance>(path);
+  const PathClearance& clearance = *w.clearance_;
   const double L = path.length();
   constexpr double kClear = 2.2;  // m: nothing closer than this to any part of the path
 
@@ -329,6 +331,24 @@ World World::generate(const SimTrajectory& path, const WorldOptions& o) {
     }
   }
 
+  // Rows of buildings behind the street's facades, from their own stream (the street's draws stay).
+  if (o.back_rows > 0) {
+    Random back(o.seed, 0xbac4000000000000ULL);
+    const int rows = static_cast<int>(std::lround(o.back_rows));
+    for (int kerb : {+1, -1}) {
+      const double side = mirror * kerb;
+      for (int row = 1; row <= rows; ++row) {
+        for (double s = -40.0; s < L + 40.0;) {
+          const double len = back.uniform(5.0, 20.0);
+          const double off = side * (o.road_half_width_max + 7.0 + row * o.back_row_spacing * back.uniform(0.7, 1.3));
+          if (!back.chance(o.back_row_gap_probability))
+            addSegment(offsetPoint(path, s, off), offsetPoint(path, s + len, off), Material::Building, kClear + 6.0);
+          s += len;
+        }
+      }
+    }
+  }
+
   // Moving traffic: oncoming cars and buses in the opposite lane, and lead vehicles ahead of the ego.
   const double duration = path.endTime() - path.startTime();
   const int movers = static_cast<int>(std::lround(o.movers_per_km * L / 1000.0));
@@ -364,6 +384,7 @@ World World::fromPrimitives(const SimTrajectory& path, std::vector<Segment> segm
                             std::vector<Mover> movers) {
   World w;
   w.path_ = &path;
+  w.clearance_ = std::make_shared<const PathClearance>(path);
   w.segments_ = std::move(segments);
   w.circles_ = std::move(circles);
   w.movers_ = std::move(movers);
@@ -389,6 +410,8 @@ void World::index() {
   mailbox_.assign(segments_.size() + circles_.size(), 0);
   ray_id_ = 0;
 }
+
+double World::pathDistance(const Eigen::Vector2d& q) const { return clearance_ ? clearance_->distance(q) : 0.0; }
 
 void World::moverState(const Mover& m, double t, Pose2& pose, Eigen::Vector2d& velocity) const {
   auto at = [&](double tt) {

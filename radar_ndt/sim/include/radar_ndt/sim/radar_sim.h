@@ -9,6 +9,7 @@
 // (seed, frame), so a frame does not depend on which frames were rendered before it.
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,8 @@ const MaterialModel& materialModel(Material m);
 
 struct WorldOptions {
   std::uint64_t seed = 1;
+  // Defaults: the automotive simulator's and the radiate profile's world; the oxford profile
+  // (applyProfile) sets a denser city.
   double road_half_width_min = 4.0;   ///< m, kerb to the path's centre line
   double road_half_width_max = 8.0;
   double building_probability = 0.6; ///< per side and 30 m block: a facade (else open land)
@@ -90,6 +93,12 @@ struct WorldOptions {
   /// on the left). Exact on a straight path. For telling what a world's layout does from what the
   /// sensor does. The ground-clutter field is not mirrored.
   double mirror = 0.0;
+  /// A city beyond the street: per side, this many more rows of building walls behind the first,
+  /// `back_row_spacing` m apart (±30 %), in 5–20 m pieces with `back_row_gap_probability` gaps,
+  /// drawn from their own random stream (0: none; the rest of the world is the same either way).
+  double back_rows = 0.0;
+  double back_row_spacing = 20.0;
+  double back_row_gap_probability = 0.4;
 };
 
 struct Segment {
@@ -123,6 +132,8 @@ struct Hit {
 };
 constexpr std::uint32_t kMoverBit = 0x80000000u;
 
+class PathClearance;
+
 /// The generated world: static segments and circles along the path, with a grid index, and the
 /// movers. Rays see everything up to and including the first opaque surface. cast() keeps
 /// per-world scratch state: one world is used by one thread at a time.
@@ -139,6 +150,8 @@ class World {
   /// tested (indices from activeMovers()).
   void cast(const Eigen::Vector2d& origin, double angle, double t, double max_range, const std::vector<int>& movers,
             std::vector<Hit>& hits) const;
+  /// Distance (m) from `q` to the nearest point of the path, up to 12 m (farther: 12).
+  double pathDistance(const Eigen::Vector2d& q) const;
   /// Movers alive at t within `radius` of `centre`.
   std::vector<int> activeMovers(const Eigen::Vector2d& centre, double radius, double t) const;
   /// A mover's pose (x, y, heading) and world velocity at time t.
@@ -151,6 +164,7 @@ class World {
  private:
   void index();
   const SimTrajectory* path_ = nullptr;
+  std::shared_ptr<const PathClearance> clearance_;
   std::vector<Segment> segments_;
   std::vector<Circle> circles_;
   std::vector<Mover> movers_;
@@ -161,44 +175,107 @@ class World {
   mutable std::uint32_t ray_id_ = 0;
 };
 
-/// Navtech CTS350-X scanning radar, Oxford Radar RobotCar layout.
+/// Navtech CTS350-X scanning radar, Oxford Radar RobotCar layout. The defaults are the oxford
+/// profile's sensor, calibrated against the real Oxford scans in the profile's world
+/// (docs/simulator.md): use applyProfile(Oxford) for both; applyProfile(Radiate) gives the earlier
+/// calibration against RADIATE's.
 struct ScanningOptions {
   int azimuths = 400;
   int bins = 3768;
   double range_resolution = 0.0438;   ///< m per bin (the dataset's figure)
   double sweep_period = 0.25;         ///< s (4 Hz)
   int encoder_size = 5600;
-  double beam_width_deg = 2.0;        ///< −3 dB, smeared across neighbouring azimuths
+  double beam_width_deg = 1.0;        ///< −3 dB, smeared across neighbouring azimuths
   int beam_rays = 7;                  ///< sub-rays across ±0.9 beam widths
-  double range_psf_sigma = 0.12;      ///< m, main lobe of the range response
-  double range_sidelobe_db = -30.0;   ///< range sidelobe level relative to the peak
-  double range_sidelobe_length = 1.0; ///< m, exponential decay of the sidelobes
-  double range_loss_db_per_decade = 10.0;  ///< power fall with range beyond 10 m
-  double target_snr_db = 30.0;        ///< a facade at 10 m, normal incidence, over the noise mean
-  double noise_rise_db = 3.5;         ///< noise mean grows by this much from 0 to max range
+  double range_psf_sigma = 0.15;      ///< m, main lobe of the range response
+  double range_sidelobe_db = -32.0;   ///< range sidelobe level relative to each bin of a return
+  double range_sidelobe_length = 0.5; ///< m, exponential decay of the sidelobes
+  double range_loss_db_per_decade = 0.0;   ///< power fall with range beyond 10 m
+  double target_snr_db = 49.0;        ///< a facade at 10 m, normal incidence, over the noise mean
+  double noise_rise_db = 0.0;         ///< noise mean grows by this much from 0 to max range
   double display_db_range = 36.0;     ///< dB spanned by 0..255
   double noise_display_level = 0.08;  ///< 0..1 value of the noise mean
   /// Compression of strong returns in the displayed power: dB over the noise mean above the knee
   /// count `display_compression` times (1: a plain log display). 0.35 above 10 dB reproduces the
   /// power distribution of the thresholded points of the real RADIATE scans.
-  double display_knee_db = 10.0;
-  double display_compression = 1.0;
+  double display_knee_db = 55.0;
+  double display_compression = 0.35;
   double speckle_looks = 2.0;         ///< target fluctuation: gamma shape (1: Rayleigh)
   /// Share of facades and vehicle sides smooth enough to mirror (chosen per surface, so a ghost
   /// is a coherent mirrored structure, not salt noise): the beam bounces off them and what it
   /// meets next appears behind the mirror, at the total path length.
   double ghost_probability = 0.3;
   double ghost_attenuation_db = 12.0; ///< ghost power below the direct return of what it shows
-  double saturation_probability = 0.002;  ///< per azimuth: a bright saturated line
+  double saturation_probability = 0.0;    ///< per azimuth: a bright saturated line
   double saturation_db = 10.0;
-  double leakage_db = 34.0;           ///< near-range leakage (first ~1.5 m) over the noise
+  double leakage_db = 15.0;           ///< near-range leakage (first ~1.5 m) over the noise
   /// Diffuse ground clutter (grass, kerbs, gravel, litter): a fixed random field in the world,
   /// seen up to the first opaque surface. Mean power over the noise at 10 m of a cluttered cell;
   /// share of 1 m cells that are cluttered (bilinear between cells); Rayleigh-distributed.
   double ground_clutter_db = 8.0;
-  double ground_clutter_cover = 0.4;
+  double ground_clutter_cover = 0.0;
   double max_range = 165.0;           ///< m rendered (beyond: noise only)
+  double range_offset_bins = 0.5;     ///< bin b lies at (b + offset) · resolution (Oxford 0.5, RADIATE 0)
+
+  // What the Navtech CTS350-X of the Oxford Radar RobotCar dataset shows beyond the earlier model
+  // (the radiate profile turns each off):
+  /// 1: the power is stored as Navtech's counts: n = ⌊P⌋ of the linear power P in counts (the
+  /// noise mean is `noise_counts`), written as ⌊20·log10 n + 0.12⌋ (0 for n < 1), so 0.5 dB a
+  /// value and a coarse staircase near the floor (0, 6, 9, 12, 14, 15, 17, ...), as the real files
+  /// have it; display_db_range and noise_display_level are then unused. 0: the display above.
+  double display_counts = 1.0;
+  double noise_counts = 2.45;         ///< mean noise power in counts (display_counts)
+  double leakage_length = 0.5;        ///< m, exponential decay of the near-range leakage
+  /// Antenna sidelobes in azimuth: every return also appears in the neighbouring azimuths at this
+  /// level (dB, relative to its main-lobe power) decaying by exp(−|Δθ| / width); −200: none.
+  double azimuth_sidelobe_db = -3.0;
+  double azimuth_sidelobe_width_deg = 0.45;
+  /// A second, long range tail (the radial streaks behind very strong returns): this many dB
+  /// below the peak, decaying over `range_pedestal_length` m on both sides; −200: none.
+  double range_pedestal_db = -70.5;
+  double range_pedestal_length = 8.0;
+  /// Only the part of a return above this power (dB over the noise mean) makes a pedestal: the
+  /// receiver saturates on it (0: every return).
+  double range_pedestal_threshold_db = 0.0;
+  /// Log-normal spread (dB, 1σ) of the ground clutter cells' strengths, mean kept at 1: a few
+  /// strong scatterers among many weak ones (0: exponential strengths).
+  double ground_clutter_sigma_db = 0.0;
+  /// Ground clutter only where the ray has left the road: beyond the first point along it at least
+  /// this far (m) from the ego path (0: everywhere up to the first opaque surface).
+  double ground_clutter_road_clearance = 0.0;
+  /// What lies behind the first opaque surface still returns this many dB below its direct power
+  /// (the roof-mounted radar's vertical beam sees taller structures over nearer ones; clutter
+  /// behind them too); −200: nothing is seen behind an opaque surface.
+  double over_occluder_db = -15.0;
+  /// Point scatterers off the road (bollards, bins, bicycles, signs, railings, window frames, the
+  /// clutter of a city): `scatterer_density` a m² (0: none), at least `scatterer_clearance` m from
+  /// the path, fixed per seed; each returns `scatterer_db` (dB relative to a facade at the same
+  /// range) with a log-normal spread of `scatterer_sigma_db`, through the beam and range response.
+  double scatterer_density = 0.16;
+  double scatterer_db = -23.0;
+  double scatterer_sigma_db = 9.0;
+  double scatterer_clearance = 6.0;
+  /// Scales every material's incidence exponent (power ∝ |cos incidence|^(exp·scale)): smooth
+  /// facades return little at grazing angles.
+  double incidence_scale = 1.0;
+  /// Scales every material's return depth (the range over which a surface returns).
+  double depth_scale = 0.2;
 };
+
+/// Sensor profiles: the scanning settings (and the kind of world) that make simulated scans look
+/// like one real dataset's, measured with `radar_sim --realism` against that dataset's own scans.
+///  - Oxford: the CTS350-X as the Oxford Radar RobotCar dataset recorded it (its counts display,
+///    noise floor, gain by range, returns per range band, streaks), in a dense city; the default
+///    for the Oxford-layout output.
+///  - Radiate: the earlier calibration, against RADIATE's foggy scans (plain log display).
+enum class ScanningProfile { Oxford, Radiate };
+/// "oxford" or "radiate"; throws std::invalid_argument otherwise.
+ScanningProfile parseScanningProfile(const std::string& name);
+const char* toString(ScanningProfile profile);
+/// Sets the profile's values in `world` and `scanning` (the seed, geometry and timing are left):
+/// its sensor, and the world it was calibrated in (oxford: a dense city, wide streets, fewer parked
+/// cars, three rows of buildings behind the facades; radiate: WorldOptions' defaults).
+void applyProfile(ScanningProfile profile, WorldOptions& world, ScanningOptions& scanning);
 
 /// ARS408-21 automotive radars with nuScenes' five mountings.
 struct AutomotiveOptions {
@@ -240,7 +317,8 @@ struct SequenceSummary {
 };
 
 /// Writes an Oxford-layout sequence into `dir`: radar/<stamp>.png, radar.timestamps,
-/// gt/radar_odometry.csv (Oxford axes), and gt/poses.txt (KITTI, vehicle frame, z up, first pose
+/// gt/radar_odometry.csv (Oxford axes; as in the dataset, source_ and destination_timestamp lie half
+/// a sweep after the scans' source_ and destination_radar_timestamp), and gt/poses.txt (KITTI, vehicle frame, z up, first pose
 /// identity, one line a scan: a convenience for radar_eval). Scan timestamps mark the sweep's
 /// first azimuth (as in Oxford); azimuth a is taken at stamp + a · period / azimuths.
 SequenceSummary writeScanningSequence(const std::string& dir, const SimTrajectory& ego, const WorldOptions& world,

@@ -100,15 +100,17 @@ TEST_P(MethodsOnSimulatedSequences, ErrorWithinItsBoundAndFailuresCounted) {
     o.matcher.method = c.method;
     const ScanningRunResult r = runScanningOdometry(ScanningSequence(scanning_, ScanFormat::Oxford), o);
     ASSERT_EQ(r.estimate.size(), 20u);
-    EXPECT_TRUE(r.problems.empty());
+    EXPECT_EQ(r.problems.size(), r.counters.fallbacks) << "each step no match passed for is reported, nothing else";
     expectCountsAddUp(r.steps, r.counters);
     frame = *evaluate(associate(r.ground_truth, r.estimate), {Metric::Frame}).frame;
     fallbacks = r.counters.fallbacks;
     // A truncated scan: reported with its file, bridged, and the run goes on with every pose.
     const ScanningSequence faulty(faulty_, ScanFormat::Oxford);
     const ScanningRunResult f = runScanningOdometry(faulty, o);
-    ASSERT_EQ(f.problems.size(), 1u);
-    EXPECT_NE(f.problems[0].find(faulty.path(kCorrupt)), std::string::npos) << f.problems[0];
+    ASSERT_EQ(f.problems.size(), 1u + f.counters.fallbacks);
+    std::size_t corrupt_reported = 0;
+    for (const auto& p : f.problems) corrupt_reported += p.find(faulty.path(kCorrupt)) != std::string::npos;
+    EXPECT_EQ(corrupt_reported, 1u);
     EXPECT_EQ(f.counters.bridged, 1u);
     EXPECT_EQ(f.steps[kCorrupt].status, StepStatus::Bridged);
     EXPECT_EQ(f.estimate.size(), 14u);
@@ -139,9 +141,9 @@ TEST_P(MethodsOnSimulatedSequences, ErrorWithinItsBoundAndFailuresCounted) {
 // Doppler integral is the most accurate row; what the match adds is tested on real scenes
 // (test_automotive_pipeline).
 INSTANTIATE_TEST_SUITE_P(EveryMethod, MethodsOnSimulatedSequences,
-                         ::testing::Values(MethodCase{Pipeline::Scanning, Method::PwNdt, 0.025, 0.07, 1},
-                                           MethodCase{Pipeline::Scanning, Method::PclNdt, 0.065, 0.11, 1},
-                                           MethodCase{Pipeline::Scanning, Method::PclIcp, 0.19, 0.31, 1},
+                         ::testing::Values(MethodCase{Pipeline::Scanning, Method::PwNdt, 0.024, 0.072, 1},
+                                           MethodCase{Pipeline::Scanning, Method::PclNdt, 0.03, 0.031, 1},
+                                           MethodCase{Pipeline::Scanning, Method::PclIcp, 0.27, 0.32, 2},
                                            MethodCase{Pipeline::Automotive, Method::PwNdt, 0.004, 0.068, 2},
                                            MethodCase{Pipeline::Automotive, Method::PclNdt, 0.008, 0.068, 3},
                                            MethodCase{Pipeline::Automotive, Method::PclIcp, 0.004, 0.073, 8},

@@ -96,146 +96,167 @@ bool motionAt(const Trajectory& t, double stamp, double previous_stamp, Pose2* m
   return true;
 }
 
-namespace {
-
-constexpr std::size_t kFaultSeqLength = 26;
-constexpr std::size_t kCorrupt = 5, kMissing = 9, kEmpty = 13, kDuplicate = 17, kNoise = 21;
-
-// The first scans of the suite's sequence copied into a fresh directory and run clean with `options`; then five
-// kinds of bad frame are injected into it: a truncated PNG, a missing file, a well-formed scan with
-// no returns, an index line repeated (duplicated timestamp), and a scan that is all noise.
-ScanningRunResult copyRunCleanAndInjectFaults(const std::string& source, const std::string& dir, const ScanningRunOptions& options) {
-  test::copyOxfordSequence(source, dir, kFaultSeqLength);
-  const ScanningSequence clean_sequence(dir, ScanFormat::Oxford);
-  EXPECT_EQ(clean_sequence.size(), kFaultSeqLength);
-  ScanningRunResult clean = runScanningOdometry(clean_sequence, options);
-  EXPECT_TRUE(clean.problems.empty());
-  EXPECT_EQ(clean.estimate.size(), kFaultSeqLength);
-  EXPECT_EQ(clean.counters.fallbacks, 0u);
-  {
-    std::ofstream truncate(clean_sequence.path(kCorrupt), std::ios::binary | std::ios::trunc);
-    truncate << "\x89PNG\r\n\x1a\n";
-  }
-  std::filesystem::remove(clean_sequence.path(kMissing));
-  PolarScan empty = clean_sequence.load(kEmpty);
-  std::fill(empty.power.begin(), empty.power.end(), std::uint8_t{0});
-  writeOxfordPolarPng(clean_sequence.path(kEmpty), empty);
-  PolarScan noise = clean_sequence.load(kNoise);
-  std::mt19937 rng(7);
-  std::uniform_int_distribution<int> byte(0, 255);
-  for (auto& v : noise.power) v = static_cast<std::uint8_t>(byte(rng));
-  writeOxfordPolarPng(clean_sequence.path(kNoise), noise);
-  {
-    std::vector<OxfordStamp> stamps = readOxfordTimestamps(dir + "/radar.timestamps");
+/// A 160-scan (40 s) stretch of the built-in drive from pose 20 with five kinds of bad frame, 30
+/// scans apart: a truncated PNG, a missing file, an index line repeated (a duplicated timestamp),
+/// a scan with no noise floor (a dead sensor: every bin 0) and a scan that is all noise. Written
+/// once; the clean copy beside it.
+class ScanningFaults : public ::testing::Test {
+ protected:
+  static constexpr std::size_t kScans = 160;
+  static constexpr std::size_t kCorrupt = 20, kMissing = 50, kDuplicate = 80, kDead = 110, kNoise = 140;
+  static void SetUpTestSuite() {
+    clean_ = test::freshTempDir("scanning_faults_clean");
+    faulty_ = test::freshTempDir("scanning_faults");
+    sim::SequenceOptions seq;
+    seq.start = 20;
+    seq.frames = kScans;
+    sim::WorldOptions world;
+    sim::ScanningOptions scanning;
+    sim::applyProfile(sim::ScanningProfile::Oxford, world, scanning);
+    sim::writeScanningSequence(clean_, sim::builtinDrive(45.0), world, scanning, seq);
+    test::copyOxfordSequence(clean_, faulty_, kScans);
+    const ScanningSequence s(faulty_, ScanFormat::Oxford);
+    std::ofstream(s.path(kCorrupt), std::ios::binary | std::ios::trunc) << "\x89PNG\r\n\x1a\n";
+    std::filesystem::remove(s.path(kMissing));
+    PolarScan dead = s.load(kDead);
+    std::fill(dead.power.begin(), dead.power.end(), std::uint8_t{0});
+    writeOxfordPolarPng(s.path(kDead), dead);
+    PolarScan noise = s.load(kNoise);
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<int> byte(0, 255);
+    for (auto& v : noise.power) v = static_cast<std::uint8_t>(byte(rng));
+    writeOxfordPolarPng(s.path(kNoise), noise);
+    std::vector<OxfordStamp> stamps = readOxfordTimestamps(faulty_ + "/radar.timestamps");
     stamps.insert(stamps.begin() + kDuplicate + 1, stamps[kDuplicate]);
     std::string text;
     for (const auto& st : stamps) text += std::to_string(st.stamp) + " 1\n";
-    std::ofstream(dir + "/radar.timestamps", std::ios::trunc) << text;
+    std::ofstream(faulty_ + "/radar.timestamps", std::ios::trunc) << text;
   }
-  return clean;
-}
-
-// The largest change of a frame-to-frame motion between two runs (m, plus rad at 10 m), over the
-// frames not next to a fault (first) and next to one (second: the fault's and the one after it).
-std::pair<double, double> largestMotionChanges(const ScanningRunResult& clean, const ScanningRunResult& faulty,
-                                               const ScanningSequence& sequence) {
-  const std::vector<std::size_t> faults{kCorrupt, kMissing, kEmpty, kNoise};
-  double worst_far = 0, worst_near = 0;
-  for (std::size_t k = 1; k < kFaultSeqLength; ++k) {
-    Pose2 a, b;
-    const double t = 1e-6 * static_cast<double>(sequence.stamp(k)), t0 = 1e-6 * static_cast<double>(sequence.stamp(k - 1));
-    EXPECT_TRUE(motionAt(clean.estimate, t, t0, &a)) << k;
-    EXPECT_TRUE(motionAt(faulty.estimate, t, t0, &b)) << k;
-    const Pose2 d = between(a, b);
-    const double err = d.head<2>().norm() + 10.0 * std::abs(d.z());
-    bool near = false;
-    for (std::size_t f : faults) near = near || k == f || k == f + 1;
-    double& worst = near ? worst_near : worst_far;
-    worst = std::max(worst, err);
+  static void TearDownTestSuite() {
+    std::filesystem::remove_all(clean_);
+    std::filesystem::remove_all(faulty_);
   }
-  return {worst_far, worst_near};
-}
 
-}  // namespace
+  /// The frames a fault may move (the testing issue's neighbourhood): from the one before it up to
+  /// the first keyframe the faulty run formed after it (a scan matched without the faulty one in
+  /// its chain), at most 10 frames after it. A repeated index line loses no frame: its own only.
+  static std::vector<bool> neighbourhoods(const ScanningRunResult& faulty) {
+    std::vector<bool> near(kScans, false);
+    for (std::size_t f : {kCorrupt, kMissing, kDead, kNoise}) {
+      std::size_t end = std::min(kScans - 1, f + 10);
+      for (std::size_t k = f + 1; k <= end; ++k)
+        if (faulty.steps[k].keyframe && faulty.steps[k].status != StepStatus::Fallback) {
+          end = k;
+          break;
+        }
+      for (std::size_t k = f - 1; k <= end; ++k) near[k] = true;
+    }
+    near[kDuplicate] = true;
+    return near;
+  }
 
-TEST_F(ScanningPipeline, FaultyFramesAreReportedBridgedAndCostOnlyTheirNeighbours) {
-  // The default pipeline on a sequence with five kinds of bad frame: each is reported or counted,
-  // the run goes on, and every frame not next to a fault moves as in the clean run, to within the
-  // matching noise.
-  const std::string dir = test::freshTempDir("scanning_faults");
-  const ScanningRunResult clean = copyRunCleanAndInjectFaults(dir_, dir, ScanningRunOptions());
-  ASSERT_EQ(clean.estimate.size(), kFaultSeqLength);
+  /// How the frame-to-frame motions of two runs differ over the frames `skip` leaves out: the
+  /// largest translation (m) and yaw (deg) change, and the share of frames within 2 cm and 0.1°.
+  struct Change {
+    double dt = 0, dyaw = 0, within = 0;
+  };
+  static Change change(const ScanningRunResult& clean, const ScanningRunResult& faulty, const ScanningSequence& sequence,
+                       const std::vector<bool>& skip) {
+    Change c;
+    std::size_t n = 0, ok = 0;
+    for (std::size_t k = 1; k < kScans; ++k) {
+      if (skip[k]) continue;
+      Pose2 a, b;
+      const double t = 1e-6 * static_cast<double>(sequence.stamp(k)), t0 = 1e-6 * static_cast<double>(sequence.stamp(k - 1));
+      EXPECT_TRUE(motionAt(clean.estimate, t, t0, &a)) << k;
+      EXPECT_TRUE(motionAt(faulty.estimate, t, t0, &b)) << k;
+      const Pose2 d = between(a, b);
+      const double dt = d.head<2>().norm(), dyaw = std::abs(d.z()) * 180.0 / kPi;
+      c.dt = std::max(c.dt, dt);
+      c.dyaw = std::max(c.dyaw, dyaw);
+      ++n;
+      ok += dt < 0.02 && dyaw < 0.1;
+    }
+    c.within = n ? static_cast<double>(ok) / static_cast<double>(n) : 0.0;
+    return c;
+  }
 
-  const ScanningSequence sequence(dir, ScanFormat::Oxford);
-  ASSERT_EQ(sequence.indexProblems().size(), 1u);
-  EXPECT_NE(sequence.indexProblems()[0].find("radar.timestamps:" + std::to_string(kDuplicate + 2)), std::string::npos)
-      << sequence.indexProblems()[0];
-  EXPECT_NE(sequence.indexProblems()[0].find("duplicated timestamp"), std::string::npos) << sequence.indexProblems()[0];
-  ASSERT_EQ(sequence.size(), kFaultSeqLength);
-  const ScanningRunResult r = runScanningOdometry(sequence, ScanningRunOptions());
+  static std::string clean_, faulty_;
+};
+std::string ScanningFaults::clean_, ScanningFaults::faulty_;
 
-  // Reported: the index line, the corrupt and the missing file, each naming its file.
-  ASSERT_EQ(r.problems.size(), 3u);
-  EXPECT_NE(r.problems[1].find(sequence.path(kCorrupt)), std::string::npos) << r.problems[1];
-  EXPECT_NE(r.problems[2].find(sequence.path(kMissing)), std::string::npos) << r.problems[2];
-  EXPECT_NE(r.problems[2].find("cannot open"), std::string::npos) << r.problems[2];
-  // Bridged with the motion model: every scan has a pose.
-  ASSERT_EQ(r.estimate.size(), kFaultSeqLength);
-  EXPECT_EQ(r.counters.bridged, 2u);
+TEST_F(ScanningFaults, EachIsReportedWithItsFileAndTheRunKeepsItsAccuracy) {
+  // The default pipeline: every bad frame is reported naming its file, the run goes on, and the
+  // KITTI error stays within 5 % of the clean run's.
+  const ScanningSequence clean_sequence(clean_, ScanFormat::Oxford), sequence(faulty_, ScanFormat::Oxford);
+  const ScanningRunOptions options;
+  const ScanningRunResult clean = runScanningOdometry(clean_sequence, options);
+  ASSERT_EQ(clean.estimate.size(), kScans);
+  ASSERT_EQ(clean.problems.size(), clean.counters.fallbacks) << "the clean run reports only steps no match passed for";
+  ASSERT_EQ(sequence.size(), kScans);
+  const ScanningRunResult r = runScanningOdometry(sequence, options);
+  ASSERT_EQ(r.estimate.size(), kScans);
+
+  // Reported: the index line, the truncated and the missing file, the dead sensor (all bridged with
+  // the motion model) and the all-noise scan (no match passed: constant velocity), each once and
+  // naming its file; besides them only steps no match passed for.
+  auto reported = [&](const std::string& a, const std::string& b) {
+    std::size_t n = 0;
+    for (const auto& p : r.problems) n += p.find(a) != std::string::npos && p.find(b) != std::string::npos;
+    return n;
+  };
+  EXPECT_EQ(reported("radar.timestamps:" + std::to_string(kDuplicate + 2), "duplicated timestamp"), 1u);
+  EXPECT_EQ(reported(sequence.path(kCorrupt), ""), 1u);
+  EXPECT_EQ(reported(sequence.path(kMissing), ""), 1u);
+  EXPECT_EQ(reported(sequence.path(kDead), "no noise floor"), 1u);
+  EXPECT_EQ(reported(sequence.path(kNoise), "no match passed"), 1u);
+  EXPECT_EQ(r.problems.size(), 1u + r.counters.bridged + r.counters.fallbacks);
   EXPECT_EQ(r.steps[kCorrupt].status, StepStatus::Bridged);
   EXPECT_EQ(r.steps[kMissing].status, StepStatus::Bridged);
-  EXPECT_EQ(r.steps[kEmpty].status, StepStatus::DeadReckoned) << "a scan with no returns cannot be matched";
-  EXPECT_EQ(r.steps[kNoise].status, StepStatus::Fallback) << "an all-noise scan must not pass as a match";
-  EXPECT_EQ(r.counters.poor_fit, 1u);
-  EXPECT_EQ(r.counters.fallbacks, 1u);
+  EXPECT_EQ(r.steps[kDead].status, StepStatus::Bridged);
+  EXPECT_EQ(r.steps[kNoise].status, StepStatus::Fallback);
+  EXPECT_EQ(r.counters.bridged, 3u);
 
-  // Frames not next to a fault move as in the clean run; the ones next to one stay close. Not
-  // bit-identical here: each scan, and so each keyframe, is motion-compensated with a velocity
-  // estimated from the matches before it, a fault can shift the keyframe schedule by a scan for
-  // good, and a match that stops at its guess carries the guess's difference on, so a different
-  // estimate next to a fault moves later matches by their noise (a few cm; see
-  // docs/notes/2026-11-25-scanning-fault-identity.md; the paper's configuration, below, meets the
-  // clean run again).
-  const auto [worst_far, worst_near] = largestMotionChanges(clean, r, sequence);
-  EXPECT_LT(worst_far, 0.08) << "a frame not next to a fault";
-  EXPECT_LT(worst_near, 0.3) << "a frame next to a fault is bridged with the motion model";
-  std::printf("fault run: largest motion change %.2e (not next to a fault), %.3f (next to one)\n", worst_far, worst_near);
+  // Outside the neighbourhoods most frames move within 2 cm and 0.1° of the clean run's motion, but
+  // not all: each scan and keyframe is motion-compensated with a velocity from the matches before
+  // it, so a difference lives on at the matcher's noise (1–3 cm), and where the two runs' keyframe
+  // schedules part (a distance threshold crossed a scan apart) the frames after it are matched over
+  // other baselines, differing by the matching noise itself, which in this drive's sharp turns is
+  // 0.3–1° a frame for the clean run too (docs/notes/2026-11-25-scanning-fault-neighbourhood.md).
+  const Change c = change(clean, r, sequence, neighbourhoods(r));
+  EXPECT_GT(c.within, 0.75) << "share of the frames outside the neighbourhoods within 2 cm and 0.1°";
+  const auto kitti = [](const ScanningRunResult& x) {
+    return evaluate(associate(x.ground_truth, x.estimate), {Metric::Kitti}).kitti->trans_err_pct;
+  };
+  const double e_clean = kitti(clean), e_faulty = kitti(r);
+  EXPECT_LT(std::abs(e_faulty - e_clean), 0.05 * e_clean) << "KITTI " << e_faulty << " % against the clean run's " << e_clean << " %";
+  std::printf("faults: outside their neighbourhoods %.0f %% of the frames move within 2 cm and 0.1 deg, the largest change %.4f m "
+              "and %.4f deg; KITTI %.3f %% against %.3f %% clean\n",
+              100.0 * c.within, c.dt, c.dyaw, e_faulty, e_clean);
 }
 
-TEST_F(ScanningPipeline, ThePapersConfigurationReconvergesToTheCleanRunAfterAFault) {
+TEST_F(ScanningFaults, ThePapersConfigurationMeetsTheCleanRunAgain) {
   // Scan to scan without motion compensation (the paper): a match depends only on its two scans
   // and its guess. A fault leaves a different guess behind for a few frames, which can land the
   // match a few cm away (NDT's optimum moves where points change cells), but then the runs meet
-  // again: the frames from the second after the last fault on move as in the clean run to within
-  // the matcher's stopping tolerance (a match ends once its step is under 1 mm and 0.1 mrad, so
-  // two runs whose guesses differ by a hair end that close to each other, not bit for bit). (The default pipeline compensates each scan, and so each keyframe, with a velocity
-  // from matches against compensated scans before it, so its differences persist: test above.)
-  const std::string dir = test::freshTempDir("scanning_faults_paper");
+  // again, to within the matcher's stopping tolerance (a match ends once its step is under 1 mm
+  // and 0.1 mrad, so two runs whose guesses differ by a hair end that close to each other).
   ScanningRunOptions options;
   options.odometry.keyframes.distance = 0.0;
   options.odometry.compensation.enabled = false;
-  const ScanningRunResult clean = copyRunCleanAndInjectFaults(dir_, dir, options);
-  ASSERT_EQ(clean.estimate.size(), kFaultSeqLength);
-  const ScanningSequence sequence(dir, ScanFormat::Oxford);
+  const ScanningSequence clean_sequence(clean_, ScanFormat::Oxford), sequence(faulty_, ScanFormat::Oxford);
+  const ScanningRunResult clean = runScanningOdometry(clean_sequence, options);
   const ScanningRunResult r = runScanningOdometry(sequence, options);
-  ASSERT_EQ(r.problems.size(), 3u);
-  ASSERT_EQ(r.estimate.size(), kFaultSeqLength);
-  const auto [worst_far, worst_near] = largestMotionChanges(clean, r, sequence);
-  EXPECT_LT(worst_far, 0.08) << "a frame not next to a fault";
-  EXPECT_LT(worst_near, 0.3);
-  double worst_settled = 0;
-  for (std::size_t k = kNoise + 2; k < kFaultSeqLength; ++k) {
-    Pose2 a, b;
-    const double t = 1e-6 * static_cast<double>(sequence.stamp(k)), t0 = 1e-6 * static_cast<double>(sequence.stamp(k - 1));
-    ASSERT_TRUE(motionAt(clean.estimate, t, t0, &a)) << k;
-    ASSERT_TRUE(motionAt(r.estimate, t, t0, &b)) << k;
-    const Pose2 d = between(a, b);
-    worst_settled = std::max(worst_settled, d.head<2>().norm() + 10.0 * std::abs(d.z()));
-  }
-  EXPECT_LT(worst_settled, 2e-3) << "the frames from the second after the last fault on: 1 mm + 10 m x 0.1 mrad";
-  std::printf("paper configuration: largest motion change %.2e (not next to a fault), %.2e (from the second "
-              "frame after the last fault on), %.3f (next to one)\n",
-              worst_far, worst_settled, worst_near);
+  ASSERT_EQ(r.problems.size(), 1u + r.counters.bridged + r.counters.fallbacks);
+  ASSERT_EQ(r.counters.bridged, 3u);
+  ASSERT_EQ(r.estimate.size(), kScans);
+  std::vector<bool> settling(kScans, false);  // each fault and the two frames after it
+  for (std::size_t f : {kCorrupt, kMissing, kDead, kNoise})
+    for (std::size_t k = f - 1; k <= f + 2; ++k) settling[k] = true;
+  settling[kDuplicate] = true;
+  const Change c = change(clean, r, sequence, settling);
+  EXPECT_LT(c.dt + 10.0 * c.dyaw * kPi / 180.0, 2e-3) << "from the third frame after each fault: 1 mm + 10 m x 0.1 mrad";
+  std::printf("paper configuration: from the third frame after each fault the motions move by at most %.2e m, %.2e deg\n", c.dt, c.dyaw);
 }
 
 TEST_F(ScanningPipeline, DeterministicRunToRunAndWithOrWithoutTheDecodeThread) {

@@ -65,7 +65,7 @@ TEST(RunReport, SummaryJsonCarriesTheCountsAndTheMetricsInTheSharedShape) {
   EXPECT_EQ(j["fallbacks"], 1);
   EXPECT_DOUBLE_EQ(j["fallback_rate"].get<double>(), 1.0 / 3.0);
   EXPECT_EQ(j["attempts_rejected_for_poor_fit"], 1);
-  EXPECT_EQ(j["unreadable_files"], 1);
+  EXPECT_EQ(j["problems"], 1);
   EXPECT_DOUBLE_EQ(j["real_time_factor"].get<double>(), 10.0);
   EXPECT_FALSE(j.contains("metrics"));
   EvaluationReport rep;

@@ -64,12 +64,12 @@ std::string stepsCsv(const AutomotiveRunResult& r) {
 std::string stepsCsv(const ScanningRunResult& r) {
   std::ostringstream csv;
   csv << "timestamp_us,status,attempts,grid,power_shift,compensation_rounds,slow,dx,dy,dyaw,guess_dx,guess_dy,guess_dyaw,"
-         "source_points,target_points,match_ms\n";
+         "source_points,target_points,match_ms,keyframe\n";
   for (const OdometryStep& s : r.steps)
     csv << s.timestamp_us << ',' << toString(s.status) << ',' << s.attempts << ',' << s.grid << ',' << s.power_shift << ','
         << s.compensation_rounds << ',' << s.slow << ',' << s.motion.x() << ',' << s.motion.y() << ',' << s.motion.z() << ','
         << s.doppler_motion.x() << ',' << s.doppler_motion.y() << ',' << s.doppler_motion.z() << ',' << s.source_points << ','
-        << s.target_points << ',' << s.match_ms << '\n';
+        << s.target_points << ',' << s.match_ms << ',' << s.keyframe << '\n';
   return csv.str();
 }
 
@@ -85,7 +85,7 @@ std::string summaryJson(const AutomotiveRunResult& r, const EvaluationReport* me
   addStepCounts(j, c);
   j["invalid_velocity_cycles"] = r.invalid_velocity_cycles;
   j["nonholonomic_velocity_cycles"] = r.nonholonomic_velocity_cycles;
-  j["unreadable_files"] = r.problems.size();
+  j["problems"] = r.problems.size();  // radars gone silent, unreadable sweeps
   j["detections"] = r.detections;
   j["removed_moving"] = r.removed_moving;
   j["median_doppler_residual_mps"] = r.median_doppler_residual;
@@ -111,7 +111,8 @@ std::string summaryJson(const ScanningRunResult& r, const EvaluationReport* metr
   j["attempts_not_converged"] = c.not_converged;
   j["attempts_rejected_by_motion_prior"] = c.rejected;
   j["attempts_rejected_for_poor_fit"] = c.poor_fit;
-  j["unreadable_files"] = r.problems.size();
+  j["unreadable_files"] = c.bridged;    // scans that could not be read or had no noise floor
+  j["problems"] = r.problems.size();    // those, bad index lines and steps no match passed for
   j["points_per_scan_median"] = r.median_points;
   j["ms_per_scan_median"] = {{"decode", r.median_ms.read_ms},
                              {"front_end", r.median_ms.front_end_ms},

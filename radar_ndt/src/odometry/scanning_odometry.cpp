@@ -66,6 +66,7 @@ const OdometryStep& ScanningOdometry::addFirstScan(const ScanFrame& scan, Odomet
   // The first scan: identity. Its velocity is unknown, so it is kept uncompensated (its time
   // offsets are short against any later correction) and becomes the first target.
   step.status = StepStatus::First;
+  step.keyframe = true;
   keyframes_.reset(Pose2::Zero(), scan.timestamp_us);
   previous_raw_.reset(new pcl::PointCloud<PointRadar>(*scan.cloud));  // a copy: the caller's cloud is not kept
   target_compensated_ = false;
@@ -258,13 +259,14 @@ bool ScanningOdometry::matchScan(const Attempt& a, const Pose2& guess, Pose2* es
   return true;
 }
 
-void ScanningOdometry::updateKeyframe(const ScanFrame& scan, const OdometryStep& step, double dt) {
+void ScanningOdometry::updateKeyframe(const ScanFrame& scan, OdometryStep& step, double dt) {
   // The next target: this scan at its reference time, with the velocity just estimated, unless
   // the keyframe is kept (KeyframePolicy).
   const bool matched = step.status == StepStatus::Matched || step.status == StepStatus::Retried;
   const bool keyframe_usable = target_ && target_->size() >= options_.min_points;
   const bool compensate = options_.compensation.enabled;
   if (keyframes_.replaceAfter(matched, step.pose, keyframe_usable)) {
+    step.keyframe = true;
     keyframes_.reset(step.pose, step.timestamp_us);
     previous_raw_.reset(new pcl::PointCloud<PointRadar>(*scan.cloud));
     target_.reset(new pcl::PointCloud<PointRadar>);

@@ -64,6 +64,7 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
   result.submap_size = options.odometry.submap_size;
   result.reference_channel = sequence.referenceChannel();
   result.period_s = sequence.periodSeconds();
+  result.problems = sequence.silences();
   const std::size_t n = options.max_cycles > 0 ? std::min(options.max_cycles, sequence.size()) : sequence.size();
   std::vector<double> read, fe, sub, match, total, residual;
   EgoVelocity last_valid;

@@ -1,6 +1,8 @@
 #include "radar_ndt/pipeline/nuscenes_sequence.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <stdexcept>
 
@@ -70,6 +72,25 @@ NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, con
   stamps.reserve(sweeps_.size());
   for (const auto& s : sweeps_) stamps.push_back({s.timestamp_us, s.channel_index});
   plans_ = planRadarCycles(stamps, static_cast<std::uint16_t>(ref));
+  // Silences: per channel, gaps of more than three of its median intervals.
+  std::map<std::uint16_t, std::vector<std::int64_t>> by_channel;
+  for (const auto& st : stamps) by_channel[st.channel].push_back(st.timestamp_us);
+  for (const auto& [channel, t] : by_channel) {
+    if (t.size() < 3) continue;
+    std::vector<std::int64_t> gaps;
+    for (std::size_t i = 1; i < t.size(); ++i) gaps.push_back(t[i] - t[i - 1]);
+    std::vector<std::int64_t> sorted = gaps;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const std::int64_t typical = sorted[sorted.size() / 2];
+    for (std::size_t i = 0; i < gaps.size(); ++i)
+      if (typical > 0 && gaps[i] > 3 * typical) {
+        char line[256];
+        std::snprintf(line, sizeof line, "%s: silent for %.2f s (no sweep from %lld to %lld us; its sweeps are %.3f s apart)",
+                      channels[channel].c_str(), 1e-6 * static_cast<double>(gaps[i]), static_cast<long long>(t[i]),
+                      static_cast<long long>(t[i + 1]), 1e-6 * static_cast<double>(typical));
+        silences_.push_back(line);
+      }
+  }
   if (plans_.size() >= 2)
     period_s_ = 1e-6 * static_cast<double>(timestamp(plans_.size() - 1) - timestamp(0)) / static_cast<double>(plans_.size() - 1);
 }

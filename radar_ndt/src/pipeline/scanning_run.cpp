@@ -24,6 +24,12 @@ PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold&
   try {
     const auto t0 = Clock::now();
     const PolarScan scan = sequence.load(k);
+    // A scan without a noise floor is a dead sensor, not a view of an empty world: a real scan's
+    // noise floor lights most of its bins (Oxford: over half of them; RADIATE: nearly all).
+    const std::size_t lit = static_cast<std::size_t>(std::count_if(scan.power.begin(), scan.power.end(), [](std::uint8_t v) { return v > 0; }));
+    if (lit * 1000 < scan.power.size())
+      throw std::runtime_error(sequence.path(k) + ": " + std::to_string(lit) + " of " + std::to_string(scan.power.size()) +
+                               " bins above 0: no noise floor, a dead sensor");
     const auto t1 = Clock::now();
     p.cloud.reset(new pcl::PointCloud<PointRadar>);
     front_end.compute(scan, *p.cloud);
@@ -104,7 +110,21 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
       result.problems.push_back("scan " + std::to_string(k) + ": " + p.problem + " (bridged with the motion model)");
       odometry.bridge(sequence.stamp(k));
     } else {
+      const OdometryCounters before = odometry.counters();
       const OdometryStep& step = odometry.addScan(ScanFrame{sequence.stamp(k), p.cloud});
+      if (step.status == StepStatus::Fallback) {
+        // Why no match passed, from what this step added to the counters.
+        const OdometryCounters& c = odometry.counters();
+        std::string why;
+        auto add = [&why](std::size_t n, const char* what) {
+          if (n) why += (why.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+        };
+        add(c.poor_fit - before.poor_fit, "fitting far worse than recent scans");
+        add(c.rejected - before.rejected, "refused by the motion prior");
+        add(c.not_converged - before.not_converged, "not converged");
+        result.problems.push_back("scan " + std::to_string(k) + ": " + sequence.path(k) + ": no match passed (" +
+                                  (why.empty() ? std::string("no power weights") : why) + "): constant-velocity motion");
+      }
       read.push_back(p.read_ms);
       fe.push_back(p.front_end_ms);
       match.push_back(step.match_ms);

@@ -50,6 +50,7 @@ struct OdometryStep {
   float power_shift = 0;         ///< s of the accepted (or last) attempt
   int compensation_rounds = 0;   ///< matches run with motion-compensated points, all attempts
   bool slow = false;             ///< the slow-speed grid was used
+  bool keyframe = false;         ///< this scan became the target of the next matches
 };
 
 struct OdometryCounters {

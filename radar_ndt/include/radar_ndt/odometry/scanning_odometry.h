@@ -108,7 +108,7 @@ class ScanningOdometry {
   /// Match, re-compensate, match again (≤ rounds) from `guess` (the motion from the previous scan).
   bool matchScan(const Attempt& a, const Pose2& guess, Pose2* estimate, int* rounds);
   /// The scan as the next target, or the first scan compensated once a velocity is known.
-  void updateKeyframe(const ScanFrame& scan, const OdometryStep& step, double dt);
+  void updateKeyframe(const ScanFrame& scan, OdometryStep& step, double dt);
 
   ScanningOdometryOptions options_;
   MatcherAdapter matcher_;

@@ -40,7 +40,7 @@ struct AutomotiveRunResult {
   StageTimes median_ms;  ///< per cycle, median of each stage
   StageTimes mean_ms;
   double median_total_ms = 0;  ///< median of the per-cycle totals
-  std::vector<std::string> problems;  ///< files that could not be read, and why (with the cycle)
+  std::vector<std::string> problems;  ///< radars that fell silent (first), then files that could not be read, and why (with the cycle)
   std::size_t invalid_velocity_cycles = 0;
   /// Cycles whose ego-velocity used vy = 0 (radars at one place only: EgoVelocityModel::Auto).
   std::size_t nonholonomic_velocity_cycles = 0;

@@ -42,6 +42,11 @@ class NuScenesRadarSequence {
   /// (x, y, yaw) and made relative to the first cycle: what an SE(2) odometry is compared with.
   Trajectory groundTruthTrajectory() const;
 
+  /// Radars that fell silent within the scene: one line for each gap of more than three of that
+  /// radar's own median intervals between sweeps, naming the channel, its length and its times (an
+  /// empty sweep is data; no sweep at all is a silence).
+  const std::vector<std::string>& silences() const { return silences_; }
+
   /// Reads cycle k's sweeps. A sweep that cannot be read (missing, truncated, malformed file) is
   /// left out and described in `problems` (file and reason); the cycle goes on with the others.
   RadarCycle load(std::size_t k, std::vector<std::string>* problems = nullptr, std::size_t* non_finite_dropped = nullptr) const;
@@ -53,6 +58,7 @@ class NuScenesRadarSequence {
   NuScenesSequenceOptions options_;
   std::vector<NuScenesSweep> sweeps_;
   std::vector<CyclePlan> plans_;
+  std::vector<std::string> silences_;
 };
 
 }  // namespace radar_ndt

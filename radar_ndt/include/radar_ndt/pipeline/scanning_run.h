@@ -59,7 +59,9 @@ struct ScanningRunResult {
   double scans_per_second = 0;  ///< end to end, with the prefetch thread
   double median_points = 0;     ///< thresholded points per scan
   bool prefetch = true;         ///< decoded on a second thread
-  /// Index lines left out, and scans that could not be read (bridged), each with the reason.
+  /// Index lines left out, scans that could not be read or have no noise floor (a dead sensor;
+  /// bridged), and scans no match passed for (constant-velocity motion), each naming its file and
+  /// the reason.
   std::vector<std::string> problems;
 };
 

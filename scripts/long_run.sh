@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Long runs: does the scanning odometry keep its memory and its speed over a long drive? Simulates a
+# 2,000-scan Oxford drive (or takes SEQ), runs the odometry on its first 500 scans and on all of
+# them, and prints the peak memory of each run and the median ms a scan (front-end and match, on one
+# thread: --no-prefetch) of the first and the last quarter of the long run. Targets (the testing
+# issue): peak memory within 10 % of the short run's, the last quarter's median within 10 % of the
+# first quarter's. A benchmark, not a test: run it on a quiet machine (docs/testing.md).
+#
+# Usage: scripts/long_run.sh [SEQ]   (SEQ: an Oxford-layout sequence of at least 2,000 scans)
+# Needs GNU time (/usr/bin/time, Debian package `time`) for the peak memory.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${BUILD_DIR:-build}
+work=${LONG_RUN_DIR:-$build/long_run}
+mkdir -p "$work"
+seq=${1:-}
+if [ -z "$seq" ]; then
+  seq=$work/drive
+  if [ ! -f "$seq/radar.timestamps" ]; then
+    "$build/apps/radar_sim" --type scanning --trajectory ../shared/data/oxford-radar-gt/2019-01-10-11-46-21.txt \
+      --frames 2000 --out "$seq" -q
+  fi
+fi
+[ -x /usr/bin/time ] || { echo "long_run: needs /usr/bin/time (apt-get install time)" >&2; exit 2; }
+n=$(wc -l < "$seq/radar.timestamps")
+[ "$n" -ge 2000 ] || { echo "long_run: $seq has $n scans, fewer than 2000" >&2; exit 2; }
+
+run() {  # scans tag
+  /usr/bin/time -f "%M" -o "$work/$2.rss" "$build/apps/radar_odometry" --format oxford --sequence "$seq" \
+    --max-cycles "$1" --no-prefetch --steps "$work/$2.csv" -q >/dev/null
+}
+run 500 short
+run 2000 long
+python3 - "$work" <<'EOF'
+import csv, statistics, sys
+work = sys.argv[1]
+rss = {t: int(open(f"{work}/{t}.rss").read().split()[-1]) for t in ("short", "long")}
+rows = list(csv.DictReader(open(f"{work}/long.csv")))
+ms = [float(r["match_ms"]) for r in rows[1:]]
+q = len(ms) // 4
+first, last = statistics.median(ms[:q]), statistics.median(ms[-q:])
+print(f"peak memory: 500 scans {rss['short'] / 1024:.1f} MiB, 2000 scans {rss['long'] / 1024:.1f} MiB "
+      f"({100 * (rss['long'] / rss['short'] - 1):+.1f} %; target within 10 %)")
+print(f"match ms a scan (median): first quarter {first:.2f}, last quarter {last:.2f} "
+      f"({100 * (last / first - 1):+.1f} %; target within 10 %)")
+EOF

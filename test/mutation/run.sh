@@ -1,0 +1,103 @@
+#!/usr/bin/env bash
+# Mutation testing: does the suite catch broken algorithms? Applies each mutation of
+# test/mutation/mutations.txt (or only the IDs given) to a scratch copy of the sources, rebuilds
+# what it touches, runs the suite, and prints a table: mutation, killed or survived, by which tests.
+# A mutation killed only by determinism tests (two runs compared with each other, not with a value
+# the mutation changes) counts as survived. Not part of CI (about an hour on 2 cores: one
+# incremental build and one suite run per mutation); see docs/testing.md.
+#
+# Usage: test/mutation/run.sh [ID...]        e.g. test/mutation/run.sh M04 M15
+# Environment: MUTATION_DIR (default build-mutation), MUTATION_JOBS (ctest -j, default 2).
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+root=$PWD
+out=${MUTATION_DIR:-build-mutation}
+jobs=${MUTATION_JOBS:-2}
+list=test/mutation/mutations.txt
+# Tests that compare two runs of the same code with each other: a kill by these alone is not one.
+determinism='Determinis|BitIdentical|ByteIdentical|SameFiles|Reproducible'
+
+mkdir -p "$out"
+src=$out/src
+bld=$out/build
+# A scratch copy of the sources (the checkout's build trees and .git left out), built once.
+rsync -a --delete --exclude '/build*' --exclude '/.git' --exclude "/$out" ./ "$src/"
+if ! { cmake -S "$src" -B "$bld" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null && cmake --build "$bld" >/dev/null; }; then
+  echo "mutation: the unmutated copy does not build" >&2
+  exit 2
+fi
+if ! ctest --test-dir "$bld" -j"$jobs" >"$out/baseline.log" 2>&1; then
+  echo "mutation: the unmutated suite fails (see $out/baseline.log): nothing to measure against" >&2
+  exit 2
+fi
+
+# Applies (or, with "revert", undoes) one mutation's replacements to the scratch copy. Every OLD
+# text must occur exactly once in its file.
+apply() {  # apply|revert ID
+  python3 - "$1" "$2" "$list" "$src" <<'EOF'
+import sys
+mode, wanted, path, src = sys.argv[1:5]
+blocks, cur = {}, None
+for line in open(path, encoding='utf-8'):
+    line = line.rstrip('\n')
+    if line.startswith('## '):
+        ident = line[3:].split()[0]
+        cur = blocks[ident] = {'what': line[3 + len(ident):].strip(), 'file': None, 'pairs': []}
+    elif cur is None or not line.strip() or line.startswith('#'):
+        continue
+    elif line.startswith('file: '):
+        cur['file'] = line[6:].strip()
+    elif line.startswith('- '):
+        cur['pairs'].append([line[2:], None])
+    elif line.startswith('+ '):
+        cur['pairs'][-1][1] = line[2:]
+m = blocks[wanted]
+f = src + '/' + m['file']
+text = open(f, encoding='utf-8').read()
+for old, new in m['pairs']:
+    a, b = (old, new) if mode == 'apply' else (new, old)
+    n = text.count(a)
+    if n != 1:
+        sys.exit('%s: %r occurs %d times in %s (must be once)' % (wanted, a, n, m['file']))
+    text = text.replace(a, b)
+open(f, 'w', encoding='utf-8').write(text)
+EOF
+}
+
+ids=("$@")
+if [ ${#ids[@]} -eq 0 ]; then mapfile -t ids < <(grep -oP '^## \K\S+' "$list"); fi
+printf '| mutation | what it breaks | result | killed by |\n|---|---|---|---|\n' >"$out/results.md"
+start=$(date +%s)
+for id in "${ids[@]}"; do
+  what=$(grep -P "^## $id " "$list" | sed "s/^## $id //")
+  t0=$(date +%s)
+  if ! apply apply "$id"; then
+    printf '| %s | %s | NOT APPLIED | - |\n' "$id" "$what" | tee -a "$out/results.md"
+    continue
+  fi
+  result="survived"
+  killers="-"
+  if ! cmake --build "$bld" >"$out/$id.build.log" 2>&1; then
+    result="killed"
+    killers="(does not compile)"
+  else
+    ctest --test-dir "$bld" -j"$jobs" --timeout 900 >"$out/$id.ctest.log" 2>&1
+    failed=$(grep -oP '^\s*\d+ - \K\S+(?= \()' "$out/$id.ctest.log" | sort -u | tr '\n' ' ')
+    if [ -n "$failed" ]; then
+      value=$(echo "$failed" | tr ' ' '\n' | grep -v '^$' | grep -Ev "$determinism" | tr '\n' ' ')
+      if [ -n "$value" ]; then
+        result="killed"
+        killers=$value
+      else
+        result="survived (determinism tests only)"
+        killers=$failed
+      fi
+    fi
+  fi
+  apply revert "$id" || { echo "mutation: could not revert $id" >&2; exit 2; }
+  printf '| %s | %s | %s | %s |\n' "$id" "$what" "$result ($(($(date +%s) - t0)) s)" "$killers" | tee -a "$out/results.md"
+done
+cmake --build "$bld" >/dev/null 2>&1  # leave the copy built unmutated
+survived=$(grep -c '| survived' "$out/results.md")
+echo "mutation: ${#ids[@]} mutations in $(($(date +%s) - start)) s, $survived survived; table in $out/results.md"
+[ "$survived" -eq 0 ]

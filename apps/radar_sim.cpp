@@ -86,16 +86,12 @@ std::map<std::string, Setting> settings(sim::WorldOptions& w, sim::ScanningOptio
   m["azimuth_sidelobe_db"] = setting("scanning", s.azimuth_sidelobe_db, "dB, antenna sidelobes in azimuth relative to the main lobe (−200: none)");
   m["azimuth_sidelobe_width_deg"] = setting("scanning", s.azimuth_sidelobe_width_deg, "deg, exponential fall of the azimuth sidelobes");
   m["range_pedestal_db"] = setting("scanning", s.range_pedestal_db, "dB below a return of its long range tail, the radial streaks (−200: none)");
-  m["range_pedestal_threshold_db"] = setting("scanning", s.range_pedestal_threshold_db, "dB over the noise above which a return saturates and makes a pedestal (0: every return)");
-  m["ground_clutter_sigma_db"] = setting("scanning", s.ground_clutter_sigma_db, "dB, log-normal spread of the clutter cells' strengths (0: exponential)");
   m["scatterer_density"] = setting("scanning", s.scatterer_density, "point scatterers off the road a m² (0: none)");
   m["scatterer_db"] = setting("scanning", s.scatterer_db, "dB, mean scatterer strength relative to a facade at the same range");
   m["scatterer_sigma_db"] = setting("scanning", s.scatterer_sigma_db, "dB, log-normal spread of the scatterer strengths");
   m["scatterer_clearance"] = setting("scanning", s.scatterer_clearance, "m, no scatterer closer than this to the path");
-  m["incidence_scale"] = setting("scanning", s.incidence_scale, "scales every material's incidence exponent (power ∝ cos^(exp·scale))");
   m["depth_scale"] = setting("scanning", s.depth_scale, "scales every material's return depth");
   m["range_pedestal_length"] = setting("scanning", s.range_pedestal_length, "m, exponential decay of the range pedestal");
-  m["ground_clutter_road_clearance"] = setting("scanning", s.ground_clutter_road_clearance, "m: ground clutter only where the ray is this far from the path (0: everywhere)");
   m["over_occluder_db"] = setting("scanning", s.over_occluder_db, "dB: what lies behind the first opaque surface returns this much weaker (−200: hidden)");
   m["period"] = setting("automotive", a.period, "s between sweeps of one radar (13 Hz)");
   m["jitter"] = setting("automotive", a.jitter, "s, uniform timing jitter of each sweep");
@@ -247,13 +243,7 @@ int main(int argc, char** argv) {
       scanning.range_offset_bins = ref.range_offset_bins;
       const PowerThreshold front;  // the paper's front-end: 0.125 m/px within 62.5 m, threshold 0.333
       const ScanStatisticsOptions stat_options;
-      pcl::PointCloud<PointRadar> cloud;
-      auto measure = [&](const PolarScan& s) {
-        ScanStatistics st = scanStatistics(s, stat_options);
-        front.compute(s, cloud);
-        st.points = cloud.size();
-        return st;
-      };
+      auto measure = [&](const PolarScan& s) { return scanStatistics(s, front, stat_options); };
       std::vector<ScanStatistics> real, simulated;
       std::vector<PowerStatistics> real_image, simulated_image;  // the front-end's Cartesian image
       const float thr = front.options().threshold;

@@ -20,8 +20,13 @@ determinism='Determinis|BitIdentical|ByteIdentical|SameFiles|Reproducible'
 mkdir -p "$out"
 src=$out/src
 bld=$out/build
-# A scratch copy of the sources (the checkout's build trees and .git left out), built once.
-rsync -a --delete --exclude '/build*' --exclude '/.git' --exclude "/$out" ./ "$src/"
+# A scratch copy of the sources (tracked and untracked files git does not ignore, so the working
+# tree's changes are tested; file times kept, so a second run rebuilds nothing it need not), built
+# once.
+mkdir -p "$src"
+git ls-files -co --exclude-standard | grep -v "^$out/" | tar -cf - -T - | tar -xf - -C "$src"
+# The real data the suite reads from ../shared/data beside its source tree.
+[ -e "$out/shared" ] || ln -s "$(cd .. && pwd)/shared" "$out/shared"
 if ! { cmake -S "$src" -B "$bld" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null && cmake --build "$bld" >/dev/null; }; then
   echo "mutation: the unmutated copy does not build" >&2
   exit 2

@@ -550,13 +550,7 @@ TEST(RadarSimOxford, ProfileReproducesTheRealOxfordScansOnADriveItWasNotCalibrat
   if (!fs::exists(real_dir) || !fs::exists(drive)) GTEST_SKIP() << "no " << real_dir << " (../shared/data is absent)";
   const PowerThreshold front;
   const ScanStatisticsOptions options;
-  pcl::PointCloud<PointRadar> cloud;
-  auto measure = [&](const PolarScan& s) {
-    ScanStatistics st = scanStatistics(s, options);
-    front.compute(s, cloud);
-    st.points = cloud.size();
-    return st;
-  };
+  auto measure = [&](const PolarScan& s) { return scanStatistics(s, front, options); };
   std::vector<ScanStatistics> real;
   for (const OxfordStamp& st : readOxfordTimestamps(real_dir + "/radar.timestamps"))
     real.push_back(measure(readOxfordPolarPng(real_dir + "/radar/" + std::to_string(st.stamp) + ".png")));

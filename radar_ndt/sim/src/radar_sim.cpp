@@ -59,7 +59,7 @@ bool specular(std::uint64_t seed, std::uint32_t id, double probability) {
 
 /// The ground-clutter field at a world point: bilinear between 1 m cells, each cluttered with
 /// probability `cover` at an exponentially distributed strength of mean 1 (fixed per seed).
-double groundClutter(std::uint64_t seed, const Eigen::Vector2d& q, double cover, double sigma_ln) {
+double groundClutter(std::uint64_t seed, const Eigen::Vector2d& q, double cover) {
   const double fx = std::floor(q.x()), fy = std::floor(q.y());
   const double ux = q.x() - fx, uy = q.y() - fy;
   const long ix = static_cast<long>(fx), iy = static_cast<long>(fy);
@@ -68,13 +68,7 @@ double groundClutter(std::uint64_t seed, const Eigen::Vector2d& q, double cover,
                       (static_cast<std::uint64_t>(y) * 0xc2b2ae3d27d4eb4fULL);
     const std::uint64_t r = splitmix64(h);
     const double a = static_cast<double>(r >> 40) * 0x1.0p-24, b = (static_cast<double>(r & 0xffffff) + 0.5) * 0x1.0p-24;
-    if (!(a < cover)) return 0.0;
-    if (sigma_ln <= 0.0) return -std::log(b);
-    // Log-normal of mean 1, its normal variate by Box–Muller from b and a second draw.
-    const std::uint64_t r2 = splitmix64(h);
-    const double c = (static_cast<double>(r2 >> 11) + 0.5) * 0x1.0p-53;
-    const double z = std::sqrt(-2.0 * std::log(b)) * std::cos(2.0 * kPi * c);
-    return std::exp(sigma_ln * z - 0.5 * sigma_ln * sigma_ln);
+    return a < cover ? -std::log(b) : 0.0;
   };
   return (1 - ux) * (1 - uy) * cell(ix, iy) + ux * (1 - uy) * cell(ix + 1, iy) + (1 - ux) * uy * cell(ix, iy + 1) +
          ux * uy * cell(ix + 1, iy + 1);
@@ -229,10 +223,10 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
   if (!(o.display_compression > 0 && o.display_compression <= 1) || !std::isfinite(o.display_knee_db))
     throw std::invalid_argument("radar_sim: display_compression must be in (0, 1] and display_knee_db finite");
   if (!(o.noise_counts > 0) || !(o.leakage_length > 0) || !(o.azimuth_sidelobe_width_deg > 0) || !(o.range_pedestal_length > 0) ||
-      !(o.ground_clutter_road_clearance >= 0) || !(o.range_offset_bins >= 0))
+      !(o.range_offset_bins >= 0))
     throw std::invalid_argument(
         "radar_sim: noise_counts, leakage_length, azimuth_sidelobe_width_deg and range_pedestal_length must be > 0, "
-        "ground_clutter_road_clearance and range_offset_bins >= 0");
+        "range_offset_bins >= 0");
   Random rng(seed, 0x5ca7000000000000ULL + frame);
   const OxfordPolarOptions oxford;
   const int A = o.azimuths, B = o.bins;
@@ -277,9 +271,6 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
   std::vector<float> noise_db(B);
   std::vector<double> noise_lin(B), range_gain(B);
   const double clutter = o.ground_clutter_cover > 0 ? dbToLinear(o.ground_clutter_db) : 0.0;
-  const double clutter_sigma_ln = o.ground_clutter_sigma_db * std::log(10.0) / 10.0;
-  const double pedestal_threshold = o.range_pedestal_threshold_db > 0 ? dbToLinear(o.range_pedestal_threshold_db) : 0.0;
-  std::vector<double> excess(B);
   for (int b = 0; b < B; ++b) {
     const double r = (b + offset) * res;
     noise_db[b] = static_cast<float>(o.noise_rise_db * std::min(r / max_range, 1.0));
@@ -291,7 +282,7 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
   // Pass 1, per azimuth: the received signal (linear power over the noise mean at 0 m) from ray
   // casting, with the range response; where the central ray is stopped and where it leaves the road.
   std::vector<double> signal_all(static_cast<std::size_t>(A) * B, 0.0);
-  std::vector<double> occluded_at(A), road_exit(A, 0.0);
+  std::vector<double> occluded_at(A);
   std::vector<Eigen::Vector2d> origins(A), directions(A);
   for (int a = 0; a < A; ++a) {
     scan.encoder[a] = static_cast<std::uint16_t>((static_cast<long>(a) * oxford.encoder_size / A) % oxford.encoder_size);
@@ -320,7 +311,7 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
     auto hitPower = [&](const Hit& h, double r) {
       const MaterialModel& m = materialModel(h.material);
       double db = o.target_snr_db + m.reflect_db - o.range_loss_db_per_decade * std::log10(std::max(r, 10.0) / 10.0);
-      if (m.incidence_exp > 0) db += 10.0 * m.incidence_exp * o.incidence_scale * std::log10(std::max(h.cos_incidence, 0.03));
+      if (m.incidence_exp > 0) db += 10.0 * m.incidence_exp * std::log10(std::max(h.cos_incidence, 0.03));
       return dbToLinear(db);
     };
 
@@ -379,25 +370,18 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
       for (int b = 0; b < B; ++b) signal[b] += sidelobe * (forward[b] + backward[b] - 2.0 * signal[b]);
     }
     if (pedestal_on) {
-      // The same recursion with the long decay, on what saturates the receiver: radial streaks
-      // behind (and before) the strongest returns.
-      for (int b = 0; b < B; ++b) excess[b] = std::max(signal[b] - pedestal_threshold, 0.0);
-      forward[0] = excess[0];
-      for (int b = 1; b < B; ++b) forward[b] = excess[b] + pedestal_decay * forward[b - 1];
-      backward[B - 1] = excess[B - 1];
-      for (int b = B - 2; b >= 0; --b) backward[b] = excess[b] + pedestal_decay * backward[b + 1];
-      for (int b = 0; b < B; ++b) signal[b] += pedestal * (forward[b] + backward[b] - excess[b]);
+      // The same recursion with the long decay: radial streaks behind (and before) the strongest
+      // returns.
+      forward[0] = signal[0];
+      for (int b = 1; b < B; ++b) forward[b] = signal[b] + pedestal_decay * forward[b - 1];
+      backward[B - 1] = signal[B - 1];
+      for (int b = B - 2; b >= 0; --b) backward[b] = signal[b] + pedestal_decay * backward[b + 1];
+      for (int b = 0; b < B; ++b) signal[b] += pedestal * (forward[b] + backward[b] - signal[b]);
     }
     occluded_at[a] = occluded;
     origins[a] = origin;
     const double beam_angle = pose.z() + scan.angle[a];
     directions[a] = Eigen::Vector2d(std::cos(beam_angle), std::sin(beam_angle));
-    if (o.ground_clutter_road_clearance > 0) {
-      // Where the ray leaves the road: the first point along it (1 m steps) this far from the path.
-      double r = 0.0;
-      while (r < max_range && world.pathDistance(origin + r * directions[a]) < o.ground_clutter_road_clearance) r += 1.0;
-      road_exit[a] = r;
-    }
   }
 
   // Pass 1b: the scatterer field, splatted through the beam's main lobe (Gaussian in azimuth) and
@@ -488,8 +472,8 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
       if (r < leak_range) s += leakage * std::exp(-r / o.leakage_length);
       // Noise and Rayleigh ground clutter add up to one exponential of their summed mean.
       double mean = noise_lin[b];
-      if (clutter > 0 && r >= road_exit[a] && (r < occluded || over_on)) {
-        const double c = groundClutter(seed, origin + r * dir, o.ground_clutter_cover, clutter_sigma_ln);
+      if (clutter > 0 && (r < occluded || over_on)) {
+        const double c = groundClutter(seed, origin + r * dir, o.ground_clutter_cover);
         if (c > 0) mean += clutter * range_gain[b] * c * (r < occluded ? 1.0 : over);
       }
       if (counts) {

@@ -65,6 +65,14 @@ ScanStatistics scanStatistics(const PolarScan& scan, const ScanStatisticsOptions
   return out;
 }
 
+ScanStatistics scanStatistics(const PolarScan& scan, const PowerThreshold& front_end, const ScanStatisticsOptions& options) {
+  ScanStatistics st = scanStatistics(scan, options);
+  pcl::PointCloud<PointRadar> cloud;
+  front_end.compute(scan, cloud);
+  st.points = cloud.size();
+  return st;
+}
+
 StatisticsSummary summarize(const std::vector<ScanStatistics>& scans) {
   if (scans.empty()) throw std::invalid_argument("summarize: no scans");
   const ScanStatistics& first = scans.front();

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/io/polar_scan.h"
 
 namespace radar_ndt {
@@ -37,11 +38,13 @@ struct BandStatistics {
 
 struct ScanStatistics {
   std::vector<BandStatistics> bands;
-  std::size_t points = 0;  ///< thresholded points of the scan (filled by the caller's front-end)
+  std::size_t points = 0;  ///< thresholded points of the scan (with a front-end; else 0)
 };
 
 /// Per band statistics of one scan's raw bins.
 ScanStatistics scanStatistics(const PolarScan& scan, const ScanStatisticsOptions& options = {});
+/// The same, with `points` the thresholded points `front_end` makes of the scan.
+ScanStatistics scanStatistics(const PolarScan& scan, const PowerThreshold& front_end, const ScanStatisticsOptions& options = {});
 
 /// Field-wise summary over scans: the median, and the smallest and largest value of each field.
 struct StatisticsSummary {

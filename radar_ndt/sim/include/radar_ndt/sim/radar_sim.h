@@ -230,19 +230,11 @@ struct ScanningOptions {
   /// level (dB, relative to its main-lobe power) decaying by exp(−|Δθ| / width); −200: none.
   double azimuth_sidelobe_db = -3.0;
   double azimuth_sidelobe_width_deg = 0.45;
-  /// A second, long range tail (the radial streaks behind very strong returns): this many dB
-  /// below the peak, decaying over `range_pedestal_length` m on both sides; −200: none.
+  /// A second, long range tail of every return (the radial streaks behind the strongest): this
+  /// many dB below each of its bins, decaying over `range_pedestal_length` m on both sides; −200:
+  /// none.
   double range_pedestal_db = -70.5;
   double range_pedestal_length = 8.0;
-  /// Only the part of a return above this power (dB over the noise mean) makes a pedestal: the
-  /// receiver saturates on it (0: every return).
-  double range_pedestal_threshold_db = 0.0;
-  /// Log-normal spread (dB, 1σ) of the ground clutter cells' strengths, mean kept at 1: a few
-  /// strong scatterers among many weak ones (0: exponential strengths).
-  double ground_clutter_sigma_db = 0.0;
-  /// Ground clutter only where the ray has left the road: beyond the first point along it at least
-  /// this far (m) from the ego path (0: everywhere up to the first opaque surface).
-  double ground_clutter_road_clearance = 0.0;
   /// What lies behind the first opaque surface still returns this many dB below its direct power
   /// (the roof-mounted radar's vertical beam sees taller structures over nearer ones; clutter
   /// behind them too); −200: nothing is seen behind an opaque surface.
@@ -255,9 +247,6 @@ struct ScanningOptions {
   double scatterer_db = -23.0;
   double scatterer_sigma_db = 9.0;
   double scatterer_clearance = 6.0;
-  /// Scales every material's incidence exponent (power ∝ |cos incidence|^(exp·scale)): smooth
-  /// facades return little at grazing angles.
-  double incidence_scale = 1.0;
   /// Scales every material's return depth (the range over which a surface returns).
   double depth_scale = 0.2;
 };

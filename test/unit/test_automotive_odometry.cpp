@@ -21,10 +21,12 @@ class JumpingMatcher : public RadarRegistration {
  public:
   JumpingMatcher() { reg_name_ = "JumpingMatcher"; }
   int calls = 0;
+  std::vector<double> grids;  ///< the grid of each align(): ICP's max correspondence distance here
 
  protected:
   void computeTransformation(PointCloudSource& output, const Eigen::Matrix4f& guess) override {
     ++calls;
+    grids.push_back(getMaxCorrespondenceDistance());
     final_transformation_ = guess;
     final_transformation_(1, 3) += 2.0f;
     pcl::transformPointCloud(*input_, output, final_transformation_);
@@ -87,6 +89,13 @@ TEST(AutomotiveOdometry, ImplausibleMatchesAreRetriedThenFallBackToDoppler) {
   for (int k = 0; k < 5; ++k) odo.add(constantCycle(k * 75000, v));
   EXPECT_EQ(odo.counters().fallbacks, 4u);
   EXPECT_EQ(matcher->calls, 4 * (o.max_retries + 1));
+  // Each retry enlarges the grid by grid_step; the next cycle starts at the nominal grid again.
+  ASSERT_EQ(matcher->grids.size(), static_cast<std::size_t>(matcher->calls));
+  for (std::size_t i = 0; i < matcher->grids.size(); ++i) {
+    const auto attempt = static_cast<double>(i % static_cast<std::size_t>(o.max_retries + 1));
+    EXPECT_NEAR(matcher->grids[i], o.grid + o.grid_step * attempt, 1e-9) << "align " << i;
+  }
+  EXPECT_NEAR(odo.steps().back().grid, o.grid + o.grid_step * o.max_retries, 1e-9);
   const auto& last = odo.steps().back();
   EXPECT_EQ(last.status, StepStatus::Fallback);
   EXPECT_NEAR(last.pose.x(), 4 * 0.75, 1e-9);  // the Doppler integral, not the jumps

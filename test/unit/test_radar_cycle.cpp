@@ -1,9 +1,10 @@
 // Radar cycles: the reference radar clocks them, every other radar gives its latest sweep within
-// one period before.
+// one period before; the front-end moves each sweep to the reference time.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
+#include "radar_ndt/frontend/ego_velocity.h"
 #include "radar_ndt/frontend/radar_cycle.h"
 
 using namespace radar_ndt;
@@ -28,5 +29,42 @@ TEST(RadarCycles, ReferenceClocksAndOthersWithinOnePeriod) {
     }
     const bool has2 = (k - 1 < 3 || k - 1 > 6);
     EXPECT_EQ(plans[k].members.size(), has2 ? 3u : 2u) << k;
+  }
+}
+
+TEST(AutomotiveFrontEnd, EachSweepIsMovedToTheReferenceTime) {
+  // A car at 10 m/s and static points P (vehicle frame at the reference time): the reference
+  // sweep sees them at P, a sweep 50 ms earlier, taken 0.5 m further back, at P + (0.5, 0). After
+  // the front-end both sit at P: the earlier sweep is moved forward in time by exp(v dt).
+  const Eigen::Vector3d v(10.0, 0.0, 0.0);
+  Eigen::Isometry3d front = Eigen::Isometry3d::Identity();  // a front radar, as on the nuScenes car
+  front.translation() = Eigen::Vector3d(3.4, 0.0, 0.5);
+  const SensorMounting mounting = toMounting(front);
+  std::vector<Eigen::Vector2d> world;
+  for (int i = 0; i < 30; ++i) world.emplace_back(15.0 + i, -8.0 + 4.0 * (i % 5));
+  RadarCycle cycle;
+  cycle.timestamp_us = 1000000;
+  for (const std::int64_t t : {std::int64_t{1000000}, std::int64_t{950000}}) {
+    RadarSweepData sweep;
+    sweep.timestamp_us = t;
+    sweep.sensor_id = 0;
+    sweep.sensor_to_vehicle = front;
+    const double back = 1e-6 * static_cast<double>(cycle.timestamp_us - t) * v.x();
+    for (const auto& w : world) {
+      const double x = w.x() + back, y = w.y();  // vehicle frame at the sweep's time
+      PointRadar p(static_cast<float>(x - 3.4), static_cast<float>(y), 0.f);  // sensor frame
+      p.doppler = static_cast<float>(predictedDoppler(mounting, x, y, v));
+      sweep.points.push_back(p);
+    }
+    cycle.sweeps.push_back(sweep);
+  }
+  const ProcessedCycle out = AutomotiveFrontEnd().process(cycle);
+  ASSERT_TRUE(out.ego.valid);
+  EXPECT_NEAR(out.ego.velocity.x(), 10.0, 1e-3);
+  ASSERT_EQ(out.cloud->size(), 2 * world.size()) << "every point is static";
+  for (std::size_t i = 0; i < out.cloud->size(); ++i) {
+    const Eigen::Vector2d& w = world[i % world.size()];
+    EXPECT_NEAR((*out.cloud)[i].x, w.x(), 2e-3) << "point " << i;
+    EXPECT_NEAR((*out.cloud)[i].y, w.y(), 2e-3) << "point " << i;
   }
 }

@@ -1,11 +1,13 @@
 // ScanningOdometry::addScan on constructed scans: motion compensation, the failure handling on a bad match
-// (a bus filling the view) and the fit check in a scene that turns poorer for good.
+// (a bus filling the view), the fit check in a scene that turns poorer for good, and the settings
+// each match runs with (the power shift s, the retry ladder, the slow grid), read off the matcher.
 #include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include "radar_ndt/odometry/scanning_odometry.h"
+#include "radar_ndt/registration/weighted_ndt_2d.h"
 
 using namespace radar_ndt;
 
@@ -24,7 +26,141 @@ pcl::PointCloud<PointRadar>::Ptr observeWorld(const std::vector<Eigen::Vector2d>
   }
   return cloud;
 }
+
+// Two facades with gaps and some poles along x.
+std::vector<Eigen::Vector2d> street() {
+  std::vector<Eigen::Vector2d> world;
+  for (double x = -60; x <= 200; x += 0.5) {
+    if (std::fmod(x + 60, 17.0) < 13.0) {
+      world.emplace_back(x, 9.0);
+      world.emplace_back(x, -11.0);
+    }
+    if (std::fmod(x + 60, 23.0) < 0.5) world.emplace_back(x, 6.5 + std::fmod(x, 3.0));
+  }
+  return world;
+}
+
+// Our matcher, recording the grid and the power shift every align() runs with; while `refuse` is
+// set, every align() reports no convergence (a match that fails whatever the settings).
+class RecordingNdt : public WeightedNDT2D<PointRadar, PointRadar> {
+ public:
+  struct Call {
+    float grid, shift;
+  };
+  std::vector<Call> calls;
+  bool refuse = false;
+
+ protected:
+  void computeTransformation(PointCloudSource& output, const Matrix4& guess) override {
+    calls.push_back({getResolution(), getPowerShift()});
+    if (refuse) {
+      converged_ = false;
+      final_transformation_ = guess;
+      return;
+    }
+    WeightedNDT2D<PointRadar, PointRadar>::computeTransformation(output, guess);
+  }
+};
+
+std::shared_ptr<RecordingNdt> recordingMatcher(double grid) {
+  auto r = std::make_shared<RecordingNdt>();
+  WeightedNDT2DSettings s = MatcherOptions::defaultOurs();
+  s.resolutions = {static_cast<float>(grid)};
+  r->setSettings(s);
+  r->setMaximumIterations(MatcherOptions().ours_max_iterations);
+  return r;
+}
+
+// A drive down street() with the default options and a RecordingNdt, a scan every 250 ms.
+struct RecordedDrive {
+  explicit RecordedDrive(unsigned seed) : rng(seed), matcher(recordingMatcher(options.grid)), odometry(options, MatcherAdapter(matcher)) {}
+  // Adds scan k, seen from (x0, 0); returns the align() calls it made.
+  std::vector<RecordingNdt::Call> scan(int k, double x0) {
+    const std::size_t before = matcher->calls.size();
+    odometry.addScan(ScanFrame{1000000 + 250000 * static_cast<std::int64_t>(k), observeWorld(world, x0, rng, noise)});
+    return {matcher->calls.begin() + static_cast<std::ptrdiff_t>(before), matcher->calls.end()};
+  }
+  std::mt19937 rng;
+  std::normal_distribution<float> noise{0.f, 0.03f};
+  const std::vector<Eigen::Vector2d> world = street();
+  const ScanningOdometryOptions options;
+  std::shared_ptr<RecordingNdt> matcher;
+  ScanningOdometry odometry;
+};
 }  // namespace
+
+TEST(ScanningOdometry, EveryMatchRunsWithThePowerShiftOfTheOptions) {
+  // The odometry owns s (eq. 1-2): whatever the matcher was built with, every match of a clean
+  // drive runs at options.power_shift and the nominal grid, and the steps record that.
+  RecordedDrive d(11);
+  d.matcher->setPowerShift(0.05f);  // not the odometry's: it must set its own
+  for (int k = 0; k < 8; ++k) d.scan(k, 2.0 * k);
+  ASSERT_FALSE(d.matcher->calls.empty());
+  for (const auto& c : d.matcher->calls) {
+    EXPECT_FLOAT_EQ(c.shift, d.options.power_shift);
+    EXPECT_FLOAT_EQ(c.grid, d.options.grid);
+  }
+  const auto& steps = d.odometry.steps();
+  for (std::size_t k = 1; k < steps.size(); ++k) {
+    EXPECT_EQ(steps[k].status, StepStatus::Matched) << "step " << k;
+    EXPECT_FLOAT_EQ(steps[k].power_shift, d.options.power_shift) << "step " << k;
+  }
+  EXPECT_NEAR(steps.back().pose.x(), 14.0, 0.3);
+}
+
+TEST(ScanningOdometry, AFailedMatchClimbsTheLadderThenFallsBackToTheConstantVelocityGuess) {
+  // A match that fails whatever the settings: the ladder tries every grid from g in steps of
+  // grid_step until one above max_grid has failed, then the same with s halved (max_shift_halvings
+  // = 1), then falls back to the constant-velocity motion; the next scan is matched at the nominal
+  // settings again.
+  RecordedDrive d(12);
+  const ScanningOdometryOptions& o = d.options;
+  std::vector<RecordingNdt::Call> ladder;
+  for (const float s : {o.power_shift, 0.5f * o.power_shift})
+    for (double g = o.grid;; g += o.grid_step) {
+      ladder.push_back({static_cast<float>(g), s});
+      if (g > o.max_grid) break;
+    }
+  const int bad = 5;
+  for (int k = 0; k < 8; ++k) {
+    d.matcher->refuse = k == bad;
+    const std::vector<RecordingNdt::Call> tried = d.scan(k, 2.0 * k);
+    if (k != bad) continue;
+    ASSERT_EQ(tried.size(), ladder.size());
+    for (std::size_t i = 0; i < ladder.size(); ++i) {
+      EXPECT_FLOAT_EQ(tried[i].grid, ladder[i].grid) << "attempt " << i;
+      EXPECT_FLOAT_EQ(tried[i].shift, ladder[i].shift) << "attempt " << i;
+    }
+  }
+  const auto& steps = d.odometry.steps();
+  const OdometryStep& failed = steps[bad];
+  EXPECT_EQ(failed.status, StepStatus::Fallback);
+  EXPECT_EQ(failed.attempts, static_cast<int>(ladder.size()));
+  EXPECT_EQ(failed.motion, failed.doppler_motion) << "a failed step takes the constant-velocity guess";
+  EXPECT_NEAR(failed.motion.x(), 2.0, 0.1);
+  EXPECT_NEAR(failed.motion.y(), 0.0, 0.05);
+  EXPECT_EQ(steps[bad + 1].status, StepStatus::Matched);
+  EXPECT_FLOAT_EQ(d.matcher->calls.back().shift, o.power_shift) << "the nominal s again after a halving";
+  EXPECT_FLOAT_EQ(d.matcher->calls.back().grid, o.grid);
+  EXPECT_NEAR(steps.back().pose.x(), 14.0, 0.3);
+}
+
+TEST(ScanningOdometry, AStandingVehicleIsMatchedOnTheSlowGrid) {
+  // Below slow_speed the grid is slow_grid (1.5 m): a vehicle standing still is matched there from
+  // the third scan on (the second has no velocity yet) and stays where it is.
+  RecordedDrive d(13);
+  for (int k = 0; k < 8; ++k) {
+    const std::vector<RecordingNdt::Call> tried = d.scan(k, 0.0);
+    if (k < 2) continue;
+    ASSERT_FALSE(tried.empty()) << "scan " << k;
+    for (const auto& c : tried) EXPECT_FLOAT_EQ(c.grid, d.options.slow_grid) << "scan " << k;
+    const OdometryStep& s = d.odometry.steps()[static_cast<std::size_t>(k)];
+    EXPECT_TRUE(s.slow) << "scan " << k;
+    EXPECT_EQ(s.grid, d.options.slow_grid) << "scan " << k;
+  }
+  EXPECT_GE(d.odometry.counters().slow, 6u);
+  EXPECT_NEAR(d.odometry.steps().back().pose.head<2>().norm(), 0.0, 0.05);
+}
 
 TEST(ScanningOdometry, BusFillingTheViewTriggersTheFailureHandling) {
   // A static scene of weak returns and, from scan 4 on, a bus alongside moving with the car:
@@ -33,14 +169,7 @@ TEST(ScanningOdometry, BusFillingTheViewTriggersTheFailureHandling) {
   // velocity if nothing passes, leaving the trajectory close to the truth.
   std::mt19937 rng(3);
   std::normal_distribution<float> noise(0.f, 0.03f);
-  std::vector<Eigen::Vector2d> world;
-  for (double x = -60; x <= 200; x += 0.5) {  // two facades with gaps and some poles
-    if (std::fmod(x + 60, 17.0) < 13.0) {
-      world.emplace_back(x, 9.0);
-      world.emplace_back(x, -11.0);
-    }
-    if (std::fmod(x + 60, 23.0) < 0.5) world.emplace_back(x, 6.5 + std::fmod(x, 3.0));
-  }
+  const std::vector<Eigen::Vector2d> world = street();
   const double step = 2.5;  // 10 m/s at 4 Hz
   ScanningOdometryOptions options;
   options.keyframes.distance = 0;  // scan to scan: every step sees the bus in its target

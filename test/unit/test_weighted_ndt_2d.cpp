@@ -14,6 +14,8 @@
 #include "radar_ndt/registration/weighted_ndt_2d.h"
 #include "radar_ndt/registration/detail/fast_exp.h"
 #include "radar_ndt/registration/detail/ndt_cost.h"
+#include "radar_ndt/registration/detail/ndt_grid.h"
+#include "radar_ndt/registration/detail/source_points.h"
 #include "radar_ndt/registration/detail/newton_optimizer.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/sim/synthetic_scan.h"
@@ -753,4 +755,74 @@ TEST(NewtonOptimizer, AFailedLineSearchIsConvergedOnlyNearTheNewtonOptimum) {
     EXPECT_TRUE(detail::minimizeNewton(cost, x, state, tolerance, limit, stationary, 35, &iterations, &total));
     EXPECT_NEAR((x - cost.centre).norm(), 0.0, 1e-6);
   }
+}
+
+namespace {
+PointRadar pointWith(float x, float y, float power, float cxx, float cxy, float cyy) {
+  PointRadar p(x, y, 0.f, power);
+  p.cov_xx = cxx;
+  p.cov_xy = cxy;
+  p.cov_yy = cyy;
+  return p;
+}
+}  // namespace
+
+TEST(WeightedNDT2D, CellsAreEquationOne) {
+  // Eq. (1), the numbers themselves: w_i = max(p_i - s, 0), mu = sum w_i p_i / sum w_i and the
+  // probabilistic covariance Sigma = sum w_i [(p_i - mu)(p_i - mu)^T + Sigma_i] / sum w_i. One
+  // 4 m cell of five points, one of them below the shift (left out).
+  pcl::PointCloud<PointRadar> target;
+  target.push_back(pointWith(1.0f, 1.0f, 0.9f, 0.04f, 0.01f, 0.01f));
+  target.push_back(pointWith(2.0f, 1.5f, 0.6f, 0.09f, 0.0f, 0.04f));
+  target.push_back(pointWith(1.5f, 2.5f, 0.7f, 0.01f, -0.005f, 0.09f));
+  target.push_back(pointWith(2.5f, 2.0f, 0.5f, 0.16f, 0.02f, 0.01f));
+  target.push_back(pointWith(3.0f, 3.0f, 0.25f, 0.01f, 0.0f, 0.01f));
+  WeightedNDT2DSettings settings;
+  settings.power_shift = 0.3f;
+  settings.cell_lookup = CellLookup::Neighbours;
+  detail::NdtGrid grid;
+  detail::buildNdtGrid(target, 4.0, settings, grid);
+  ASSERT_EQ(grid.cells.size(), 1u);
+  const detail::NdtCell& cell = grid.cells[0];
+
+  double sw = 0;
+  Eigen::Vector2d mu = Eigen::Vector2d::Zero();
+  for (int i = 0; i < 4; ++i) {
+    const double w = target[i].power - 0.3f;
+    sw += w;
+    mu += w * Eigen::Vector2d(target[i].x, target[i].y);
+  }
+  mu /= sw;
+  Eigen::Matrix2d sigma = Eigen::Matrix2d::Zero();
+  for (int i = 0; i < 4; ++i) {
+    const double w = target[i].power - 0.3f;
+    const Eigen::Vector2d d = Eigen::Vector2d(target[i].x, target[i].y) - mu;
+    Eigen::Matrix2d own;
+    own << target[i].cov_xx, target[i].cov_xy, target[i].cov_xy, target[i].cov_yy;
+    sigma += w * (d * d.transpose() + own);
+  }
+  sigma /= sw;
+  const Eigen::Matrix2d inv = sigma.inverse();
+  EXPECT_NEAR(cell.weight, sw, 1e-6);
+  EXPECT_NEAR(cell.mx, mu.x(), 1e-6);
+  EXPECT_NEAR(cell.my, mu.y(), 1e-6);
+  EXPECT_NEAR(cell.ixx, inv(0, 0), 1e-6 * inv.norm());
+  EXPECT_NEAR(cell.ixy, inv(0, 1), 1e-6 * inv.norm());
+  EXPECT_NEAR(cell.iyy, inv(1, 1), 1e-6 * inv.norm());
+}
+
+TEST(WeightedNDT2D, SourceWeightsAreEquationTwo) {
+  // Eq. (2), the numbers themselves: w = max(p - s, 0) exp(-1/2 (sigma_x + sigma_y)), sigma_x and
+  // sigma_y the point's standard deviations (not variances); a point below the shift is left out.
+  pcl::PointCloud<PointRadar> source;
+  source.push_back(pointWith(1.0f, 2.0f, 0.8f, 0.04f, 0.0f, 0.09f));   // sigma 0.2 and 0.3 m
+  source.push_back(pointWith(5.0f, -1.0f, 0.5f, 0.25f, 0.1f, 1.0f));   // sigma 0.5 and 1 m
+  source.push_back(pointWith(3.0f, 3.0f, 0.2f, 0.01f, 0.0f, 0.01f));   // below s
+  const pcl::Indices all{0, 1, 2};
+  std::vector<detail::WeightedPoint2D> out;
+  detail::weightSourcePoints(source, all, 0.3, out);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_NEAR(out[0].w, (0.8f - 0.3) * std::exp(-0.5 * (0.2 + 0.3)), 1e-5);
+  EXPECT_NEAR(out[1].w, (0.5f - 0.3) * std::exp(-0.5 * (0.5 + 1.0)), 1e-5);
+  EXPECT_EQ(out[1].x, 5.0);
 }

@@ -51,6 +51,9 @@ AutomotiveOdometry::AutomotiveOdometry(const AutomotiveOdometryOptions& options,
       map_(options.map_cycles),
       fusion_(options.fusion) {
   options_.validate();
+  // Every cycle's first attempt runs at the nominal grid, the first one too: a caller's matcher
+  // may come with its own (PCL's ICP: an unbounded correspondence distance).
+  if (matcher_) matcher_.setGrid(options_.grid);
 }
 
 EgoVelocity AutomotiveOdometry::egoVelocityOf(const ProcessedCycle& cycle) {

@@ -74,7 +74,8 @@ struct AutomotiveOdometryOptions {
 class AutomotiveOdometry {
  public:
   /// An empty `matcher` (Method::Doppler): dead reckoning with the Doppler ego-velocity (Kellner's
-  /// baseline). Validates `options`.
+  /// baseline). Validates `options`. The odometry owns the matcher's grid (options.grid, enlarged
+  /// on retries): it is set here, whatever the matcher was built with.
   AutomotiveOdometry(const AutomotiveOdometryOptions& options, MatcherAdapter matcher);
 
   /// Adds a front-end cycle. Its cloud is planar (z = 0, as AutomotiveFrontEnd gives it): ours

@@ -2,9 +2,10 @@
 # Mutation testing: does the suite catch broken algorithms? Applies each mutation of
 # test/mutation/mutations.txt (or only the IDs given) to a scratch copy of the sources, rebuilds
 # what it touches, runs the suite, and prints a table: mutation, killed or survived, by which tests.
-# A mutation killed only by determinism tests (two runs compared with each other, not with a value
-# the mutation changes) counts as survived. Not part of CI (about an hour on 2 cores: one
-# incremental build and one suite run per mutation); see docs/testing.md.
+# A mutation killed only by tests that compare two runs with each other (determinism, and a faulty
+# run against its clean twin), not with a value the mutation changes, counts as survived. Not part
+# of CI (about an hour on 2 cores: one incremental build and one suite run per mutation); see
+# docs/testing.md.
 #
 # Usage: test/mutation/run.sh [ID...]        e.g. test/mutation/run.sh M04 M15
 # Environment: MUTATION_DIR (default build-mutation), MUTATION_JOBS (ctest -j, default 2).
@@ -14,17 +15,22 @@ root=$PWD
 out=${MUTATION_DIR:-build-mutation}
 jobs=${MUTATION_JOBS:-2}
 list=test/mutation/mutations.txt
-# Tests that compare two runs of the same code with each other: a kill by these alone is not one.
-determinism='Determinis|BitIdentical|ByteIdentical|SameFiles|Reproducible'
+# Tests that compare two runs of the same code with each other (determinism; a run with faults
+# against the clean run): they fail for any change of behaviour, so a kill by these alone is not one.
+comparisons='Determinis|BitIdentical|ByteIdentical|SameFiles|Reproducible|ScanningFaults\.|FaultsCostOnlyTheirNeighbourhood'
 
 mkdir -p "$out"
 src=$out/src
 bld=$out/build
 # A scratch copy of the sources (tracked and untracked files git does not ignore, so the working
-# tree's changes are tested; file times kept, so a second run rebuilds nothing it need not), built
-# once.
+# tree's changes are tested), built once. Only files whose content differs are copied, with a new
+# time: a second run rebuilds only what changed, and a mutation left behind by an interrupted run
+# is overwritten and rebuilt (copying with the original times would hide it from the build).
 mkdir -p "$src"
-git ls-files -co --exclude-standard | grep -v "^$out/" | tar -cf - -T - | tar -xf - -C "$src"
+git ls-files -co --exclude-standard | grep -v "^$out/" | while IFS= read -r f; do
+  [ -f "$f" ] || continue
+  cmp -s "$f" "$src/$f" || { mkdir -p "$src/$(dirname "$f")" && cp "$f" "$src/$f"; }
+done
 # The real data the suite reads from ../shared/data beside its source tree.
 [ -e "$out/shared" ] || ln -s "$(cd .. && pwd)/shared" "$out/shared"
 if ! { cmake -S "$src" -B "$bld" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null && cmake --build "$bld" >/dev/null; }; then
@@ -37,7 +43,7 @@ if ! ctest --test-dir "$bld" -j"$jobs" >"$out/baseline.log" 2>&1; then
 fi
 
 # Applies (or, with "revert", undoes) one mutation's replacements to the scratch copy. Every OLD
-# text must occur exactly once in its file.
+# text must occur exactly once in its file, and every NEW text once after the change.
 apply() {  # apply|revert ID
   python3 - "$1" "$2" "$list" "$src" <<'EOF'
 import sys
@@ -65,6 +71,10 @@ for old, new in m['pairs']:
     if n != 1:
         sys.exit('%s: %r occurs %d times in %s (must be once)' % (wanted, a, n, m['file']))
     text = text.replace(a, b)
+if mode == 'apply':  # the revert needs each new text once, too
+    for old, new in m['pairs']:
+        if text.count(new) != 1:
+            sys.exit('%s: %r would occur %d times in %s (must be once)' % (wanted, new, text.count(new), m['file']))
 open(f, 'w', encoding='utf-8').write(text)
 EOF
 }
@@ -86,15 +96,22 @@ for id in "${ids[@]}"; do
     result="killed"
     killers="(does not compile)"
   else
-    ctest --test-dir "$bld" -j"$jobs" --timeout 900 >"$out/$id.ctest.log" 2>&1
-    failed=$(grep -oP '^\s*\d+ - \K\S+(?= \()' "$out/$id.ctest.log" | sort -u | tr '\n' ' ')
+    ctest --test-dir "$bld" -j"$jobs" --timeout 900 --output-on-failure >"$out/$id.ctest.log" 2>&1
+    # The failed tests: CTest's names, and inside a binary that runs a whole suite (integration/)
+    # the GoogleTest cases that failed, so a determinism case is told from a value check.
+    failed=$( { grep -oP '^\[  FAILED  \] \K[A-Za-z0-9_/]+\.[A-Za-z0-9_/.]+' "$out/$id.ctest.log";
+                grep -oP '^\s*\d+ - \K\S+(?= \()' "$out/$id.ctest.log" | grep -v '^test_.*' ; } | sort -u | tr '\n' ' ')
+    # A binary that failed without a GoogleTest case failing (a crash, a timeout) counts by its name.
+    for bin in $(grep -oP '^\s*\d+ - \K\S+(?= \()' "$out/$id.ctest.log" | grep '^test_' | sort -u); do
+      grep -q "^\[  FAILED  \]" "$out/$id.ctest.log" || failed="$failed$bin "
+    done
     if [ -n "$failed" ]; then
-      value=$(echo "$failed" | tr ' ' '\n' | grep -v '^$' | grep -Ev "$determinism" | tr '\n' ' ')
+      value=$(echo "$failed" | tr ' ' '\n' | grep -v '^$' | grep -Ev "$comparisons" | tr '\n' ' ')
       if [ -n "$value" ]; then
         result="killed"
         killers=$value
       else
-        result="survived (determinism tests only)"
+        result="survived (run comparisons only)"
         killers=$failed
       fi
     fi

@@ -14,6 +14,7 @@
 #include "radar_ndt/pipeline/nuscenes_sequence.h"
 #include "radar_ndt/odometry/automotive_odometry.h"
 #include "radar_ndt/se2.h"
+#include "test_support.h"
 
 using namespace radar_ndt;
 
@@ -181,8 +182,7 @@ TEST(AutomotiveOdometry, FaultsCostOnlyTheirNeighbourhood) {
 
   // The faulty dataroot: the tables (sample_data without RADAR_FRONT_RIGHT for 2 s) and links to
   // the scene's sweeps, but for a truncated copy of one and a missing other.
-  const std::string dir = ::testing::TempDir() + "radar_ndt_automotive_faults";
-  fs::remove_all(dir);
+  const std::string dir = test::freshTempDir("automotive_faults");
   fs::create_directories(dir + "/v1.0-mini");
   const std::int64_t silent_from = clean_seq.timestamp(kSilent), silent_to = silent_from + 2000000;
   for (const auto& e : fs::directory_iterator(root + "/v1.0-mini")) {

@@ -73,10 +73,7 @@ class MethodsOnSimulatedSequences : public ::testing::TestWithParam<MethodCase> 
     sim::SequenceOptions seq;
     seq.start = 40;
     seq.frames = 20;
-    sim::WorldOptions world;
-    sim::ScanningOptions scanning;
-    sim::applyProfile(sim::ScanningProfile::Oxford, world, scanning);  // the calibrated simulator
-    sim::writeScanningSequence(scanning_, sim::builtinDrive(30.0), world, scanning, seq);
+    test::writeOxfordProfileSequence(scanning_, sim::builtinDrive(30.0), seq);  // the calibrated simulator
     seq.frames = 130;
     sim::writeAutomotiveSequence(automotive_, sim::builtinDrive(30.0), sim::WorldOptions(), sim::AutomotiveOptions(), seq);
     test::copyOxfordSequence(scanning_, faulty_, 14);

@@ -53,10 +53,7 @@ class ScanningPipeline : public ::testing::Test {
     sim::SequenceOptions seq;
     seq.start = 40;
     seq.frames = 60;
-    sim::WorldOptions world;
-    sim::ScanningOptions scanning;
-    sim::applyProfile(sim::ScanningProfile::Oxford, world, scanning);  // the calibrated simulator
-    sim::writeScanningSequence(dir_, sim::builtinDrive(30.0), world, scanning, seq);
+    test::writeOxfordProfileSequence(dir_, sim::builtinDrive(30.0), seq);
   }
   static void TearDownTestSuite() { std::filesystem::remove_all(dir_); }
   static std::string dir_;
@@ -110,10 +107,7 @@ class ScanningFaults : public ::testing::Test {
     sim::SequenceOptions seq;
     seq.start = 20;
     seq.frames = kScans;
-    sim::WorldOptions world;
-    sim::ScanningOptions scanning;
-    sim::applyProfile(sim::ScanningProfile::Oxford, world, scanning);
-    sim::writeScanningSequence(clean_, sim::builtinDrive(45.0), world, scanning, seq);
+    test::writeOxfordProfileSequence(clean_, sim::builtinDrive(45.0), seq);
     test::copyOxfordSequence(clean_, faulty_, kScans);
     const ScanningSequence s(faulty_, ScanFormat::Oxford);
     std::ofstream(s.path(kCorrupt), std::ios::binary | std::ios::trunc) << "\x89PNG\r\n\x1a\n";
@@ -285,10 +279,7 @@ TEST(ScanningPipelineFastTurn, MotionCompensationHelps) {
   const std::string dir = test::freshTempDir("scanning_turn");
   sim::SequenceOptions seq;
   seq.frames = 40;
-  sim::WorldOptions world;
-  sim::ScanningOptions scanning;
-  sim::applyProfile(sim::ScanningProfile::Oxford, world, scanning);
-  sim::writeScanningSequence(dir, turningDrive(10.0, 20.0, 12.0), world, scanning, seq);
+  test::writeOxfordProfileSequence(dir, turningDrive(10.0, 20.0, 12.0), seq);
   const ScanningSequence sequence(dir, ScanFormat::Oxford);
   ScanningRunOptions on, off;
   off.odometry.compensation.enabled = false;

@@ -12,6 +12,7 @@
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/frontend/power_threshold.h"
+#include "radar_ndt/pipeline/scanning_sequence.h"
 #include "radar_ndt/sim/radar_sim.h"
 #include "test_support.h"
 
@@ -552,8 +553,8 @@ TEST(RadarSimOxford, ProfileReproducesTheRealOxfordScansOnADriveItWasNotCalibrat
   const ScanStatisticsOptions options;
   auto measure = [&](const PolarScan& s) { return scanStatistics(s, front, options); };
   std::vector<ScanStatistics> real;
-  for (const OxfordStamp& st : readOxfordTimestamps(real_dir + "/radar.timestamps"))
-    real.push_back(measure(readOxfordPolarPng(real_dir + "/radar/" + std::to_string(st.stamp) + ".png")));
+  const ScanningSequence real_sequence(real_dir, ScanFormat::Oxford);
+  for (std::size_t k = 0; k < real_sequence.size(); ++k) real.push_back(measure(real_sequence.load(k)));
   const ScanStatistics r = summarize(real).median;
   const sim::SimTrajectory ego(readTrajectory(drive), 0.25);
   auto fieldsWithin = [&](sim::ScanningProfile profile) -> RealismCheck {

@@ -99,6 +99,7 @@ TEST(ScanStatistics, RealismToleranceIsRelativeForFractionsAndAbsoluteForPercent
   const RealismCheck c = compareRealism(make(0.026, 13.0 / 255, 6000), real, o);
   EXPECT_EQ(c.fields, 3u);
   EXPECT_EQ(c.failures.size(), 2u);
+  EXPECT_EQ(c.within, (std::vector<bool>{false, false, true}));  // the fraction, p50, the points
 }
 
 TEST(ScanStatistics, RejectsBadOptionsAndScans) {

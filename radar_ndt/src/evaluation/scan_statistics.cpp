@@ -124,7 +124,8 @@ RealismCheck compareRealism(const ScanStatistics& sim, const ScanStatistics& rea
       ++check.fields;
       const double allowed = std::max(tol.fraction_relative * r.above[j], tol.fraction_absolute);
       check.error += std::pow(std::min(std::abs(s.above[j] - r.above[j]) / allowed, 5.0), 2);
-      if (std::abs(s.above[j] - r.above[j]) > allowed + 1e-12) {
+      check.within.push_back(std::abs(s.above[j] - r.above[j]) <= allowed + 1e-12);
+      if (!check.within.back()) {
         std::snprintf(line, sizeof line, "%g-%g m, above %g: %.4f vs %.4f", r.band.lo, r.band.hi, options.levels[j], s.above[j], r.above[j]);
         check.failures.push_back(line);
       }
@@ -132,7 +133,8 @@ RealismCheck compareRealism(const ScanStatistics& sim, const ScanStatistics& rea
     for (std::size_t j = 0; j < options.percentiles.size(); ++j) {
       ++check.fields;
       check.error += std::pow(std::min(std::abs(s.percentile[j] - r.percentile[j]) / tol.percentile_absolute, 5.0), 2);
-      if (std::abs(s.percentile[j] - r.percentile[j]) > tol.percentile_absolute + 1e-9) {
+      check.within.push_back(std::abs(s.percentile[j] - r.percentile[j]) <= tol.percentile_absolute + 1e-9);
+      if (!check.within.back()) {
         std::snprintf(line, sizeof line, "%g-%g m, p%g: %.0f/255 vs %.0f/255", r.band.lo, r.band.hi, options.percentiles[j],
                       255 * s.percentile[j], 255 * r.percentile[j]);
         check.failures.push_back(line);
@@ -142,7 +144,8 @@ RealismCheck compareRealism(const ScanStatistics& sim, const ScanStatistics& rea
   ++check.fields;
   const double rp = static_cast<double>(real.points), sp = static_cast<double>(sim.points);
   check.error += std::pow(std::min(std::abs(sp - rp) / std::max(tol.points_relative * rp, 1.0), 5.0), 2);
-  if (std::abs(sp - rp) > tol.points_relative * rp) {
+  check.within.push_back(std::abs(sp - rp) <= tol.points_relative * rp);
+  if (!check.within.back()) {
     std::snprintf(line, sizeof line, "points per scan: %.0f vs %.0f", sp, rp);
     check.failures.push_back(line);
   }

@@ -26,8 +26,11 @@ PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold&
     const PolarScan scan = sequence.load(k);
     // A scan without a noise floor is a dead sensor, not a view of an empty world: a real scan's
     // noise floor lights most of its bins (Oxford: over half of them; RADIATE: nearly all).
-    const std::size_t lit = static_cast<std::size_t>(std::count_if(scan.power.begin(), scan.power.end(), [](std::uint8_t v) { return v > 0; }));
-    if (lit * 1000 < scan.power.size())
+    // Counting stops once enough bins are lit: a live scan is told after a few thousand bytes.
+    const std::size_t needed = (scan.power.size() + 999) / 1000;  // lit · 1000 ≥ size
+    std::size_t lit = 0;
+    for (auto it = scan.power.begin(); it != scan.power.end() && lit < needed; ++it) lit += *it > 0;
+    if (lit < needed)
       throw std::runtime_error(sequence.path(k) + ": " + std::to_string(lit) + " of " + std::to_string(scan.power.size()) +
                                " bins above 0: no noise floor, a dead sensor");
     const auto t1 = Clock::now();

@@ -66,6 +66,9 @@ struct RealismCheck {
   /// One line per band and field: "15-30 m, above 0.333: 0.0150 vs 0.0141".
   std::vector<std::string> failures;
   std::size_t fields = 0;  ///< fields compared
+  /// Per field, whether it is within its tolerance, in order: each band's levels, then its
+  /// percentiles; the points per scan last.
+  std::vector<bool> within;
   /// Σ over the fields of min(|simulated − real| / tolerance, 5)²: 1 per field at the edge of its
   /// tolerance, 0 for a perfect match (how far off, where `failures` only says whether).
   double error = 0;

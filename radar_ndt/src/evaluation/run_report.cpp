@@ -126,7 +126,7 @@ std::string summaryJson(const ScanningRunResult& r, const EvaluationReport* metr
 
 std::string summaryText(const AutomotiveRunResult& r) {
   const auto& c = r.counters;
-  std::string s = format("%s: %zu cycles (reference %s, %.1f Hz), matched %zu, retried %zu, fallbacks %zu (%.1f %%), %zu unreadable files\n",
+  std::string s = format("%s: %zu cycles (reference %s, %.1f Hz), matched %zu, retried %zu, fallbacks %zu (%.1f %%), %zu problems (unreadable sweeps, silent radars)\n",
                          r.scene.c_str(), c.cycles, r.reference_channel.c_str(), r.period_s > 0 ? 1.0 / r.period_s : 0.0,
                          c.matched, c.retried, c.fallbacks, percent(c.fallbacks, c.cycles), r.problems.size());
   s += format("  %zu detections, %.1f %% removed as moving; Doppler fit residual %.3f m/s (median), %zu cycles without a valid "

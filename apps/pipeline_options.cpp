@@ -79,6 +79,12 @@ void addPipelineOptions(po::options_description& opts) {
                                                 num(s.odometry.keyframes.rotation) + " rad, or a failed match), default " +
                                                 num(s.odometry.keyframes.distance) + "; 0: scan to scan as the paper").c_str())
     ("no-motion-compensation", po::bool_switch(), "scanning: do not move points to the scan's reference time (ablation)")
+    ("compensation-rounds", po::value<int>(), ("scanning: matches per scan at most, the velocity of the points' motion "
+                                               "compensation re-estimated between them, default " +
+                                               std::to_string(s.odometry.compensation.max_rounds)).c_str())
+    ("compensation-tolerance", po::value<double>(), ("scanning: another compensation round only when the match moved the "
+                                                     "velocity by more (m/s; yaw rate x 10 m), default " +
+                                                     num(s.odometry.compensation.tolerance)).c_str())
     ("no-prefetch", po::bool_switch(), "scanning: decode the next scan on the main thread (timing comparison)")
     ("quiet,q", po::bool_switch(), "no progress bar");
   // clang-format on
@@ -123,6 +129,8 @@ ScanningRunOptions scanningOptions(const po::variables_map& vm) {
   if (has("grid")) od.grid = vm["grid"].as<double>();
   if (has("power-shift")) od.power_shift = static_cast<float>(vm["power-shift"].as<double>());
   od.compensation.enabled = !vm["no-motion-compensation"].as<bool>();
+  if (has("compensation-rounds")) od.compensation.max_rounds = vm["compensation-rounds"].as<int>();
+  if (has("compensation-tolerance")) od.compensation.tolerance = vm["compensation-tolerance"].as<double>();
   od.shift_source_weights = !vm["no-source-shift"].as<bool>();
   if (has("keyframe-distance")) od.keyframes.distance = vm["keyframe-distance"].as<double>();
   if (vm["no-gate"].as<bool>()) od.gate.max_acceleration = od.gate.max_yaw_acceleration = std::numeric_limits<double>::infinity();

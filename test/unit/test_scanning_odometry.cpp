@@ -1,11 +1,13 @@
 // ScanningOdometry::addScan on constructed scans: motion compensation, the failure handling on a bad match
 // (a bus filling the view), the fit check in a scene that turns poorer for good, and the settings
 // each match runs with (the power shift s, the retry ladder, the slow grid), read off the matcher.
+#include <algorithm>
 #include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
 
+#include "radar_ndt/odometry/motion_compensation.h"
 #include "radar_ndt/odometry/scanning_odometry.h"
 #include "radar_ndt/registration/weighted_ndt_2d.h"
 
@@ -49,6 +51,13 @@ class RecordingNdt : public WeightedNDT2D<PointRadar, PointRadar> {
   };
   std::vector<Call> calls;
   bool refuse = false;
+  // With keep_clouds: each align()'s source and target as given, and its result.
+  struct Match {
+    pcl::PointCloud<PointRadar> source, target;
+    Matrix4 result;
+  };
+  bool keep_clouds = false;
+  std::vector<Match> matches;
 
  protected:
   void computeTransformation(PointCloudSource& output, const Matrix4& guess) override {
@@ -59,6 +68,7 @@ class RecordingNdt : public WeightedNDT2D<PointRadar, PointRadar> {
       return;
     }
     WeightedNDT2D<PointRadar, PointRadar>::computeTransformation(output, guess);
+    if (keep_clouds) matches.push_back({*input_, *target_, final_transformation_});
   }
 };
 
@@ -276,4 +286,55 @@ TEST(ScanningOdometry, KeepsNoPointerToTheCallersCloud) {
             << "scan " << k << ", compensation " << compensate << ", keyframe distance " << keyframe_distance;
       EXPECT_NEAR(kept.steps().back().pose.x(), 14.0, 0.5);
     }
+}
+
+TEST(ScanningOdometry, EachCompensationRoundUsesTheVelocityThePreviousMatchFound) {
+  // Scan to scan, each point carrying its time across the sweep; the speed steps from 8 to
+  // 10.4 m/s at scan 5, so the constant-velocity guess is 2.4 m/s off there. The first round
+  // compensates the source with the guess's velocity; the next compensates both the source and
+  // the previous scan (the target) with the velocity the first match found. (The scans are seen
+  // from one place each, so their time offsets only label the points: what is checked is which
+  // velocity each round moves them with, not the motion found.)
+  std::mt19937 rng(13);
+  std::normal_distribution<float> noise(0.f, 0.03f);
+  const std::vector<Eigen::Vector2d> world = street();
+  ScanningOdometryOptions options;
+  options.keyframes.distance = 0;
+  auto matcher = recordingMatcher(options.grid);
+  matcher->keep_clouds = true;
+  ScanningOdometry odometry(options, MatcherAdapter(matcher));
+  const double dt = 0.25;
+  std::vector<pcl::PointCloud<PointRadar>> raw;
+  std::vector<std::size_t> first_match;  // index into matcher->matches of each scan's first align()
+  double x0 = 0;
+  for (int k = 0; k < 7; ++k) {
+    x0 += k == 0 ? 0.0 : (k < 5 ? 2.0 : 2.6);
+    pcl::PointCloud<PointRadar> cloud = *observeWorld(world, x0, rng, noise);
+    for (std::size_t i = 0; i < cloud.size(); ++i) cloud[i].time_offset = 0.25f * static_cast<float>(i) / static_cast<float>(cloud.size());
+    raw.push_back(cloud);
+    first_match.push_back(matcher->matches.size());
+    odometry.addScan(ScanFrame{1000000 + 250000 * static_cast<std::int64_t>(k), pcl::make_shared<pcl::PointCloud<PointRadar>>(cloud)});
+  }
+  const int k = 5;
+  const auto& steps = odometry.steps();
+  ASSERT_EQ(steps[k].status, StepStatus::Matched);
+  ASSERT_GE(steps[k].compensation_rounds, 2) << "a velocity 2.4 m/s off must call for a second round";
+  ASSERT_GE(matcher->matches.size(), first_match[k] + 2);
+  const auto& round0 = matcher->matches[first_match[k]];
+  const auto& round1 = matcher->matches[first_match[k] + 1];
+  auto expectSame = [](const pcl::PointCloud<PointRadar>& a, const pcl::PointCloud<PointRadar>& b, const char* what) {
+    ASSERT_EQ(a.size(), b.size()) << what;
+    double worst = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) worst = std::max({worst, std::abs(double(a[i].x) - b[i].x), std::abs(double(a[i].y) - b[i].y)});
+    EXPECT_LT(worst, 1e-4) << what;
+  };
+  pcl::PointCloud<PointRadar> expected;
+  compensateMotion(raw[k], velocityOf(steps[k - 1].motion, dt), expected);  // the constant-velocity guess
+  expectSame(round0.source, expected, "round 0's source: the guess's velocity");
+  const Eigen::Vector3d found = velocityOf(toPose2(round0.result), dt);
+  EXPECT_GT(found.x(), 9.6) << "the first match must see the new speed";
+  compensateMotion(raw[k], found, expected);
+  expectSame(round1.source, expected, "round 1's source: the first match's velocity");
+  compensateMotion(raw[k - 1], found, expected);
+  expectSame(round1.target, expected, "round 1's target: the previous scan at the first match's velocity");
 }

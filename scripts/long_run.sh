@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Long runs: does the scanning odometry keep its memory and its speed over a long drive? Simulates a
-# 2,000-scan stretch of an Oxford drive (or takes SEQ), runs the odometry on its first 500 scans and on all of
-# them, and prints the peak memory of each run and the median match ms a scan (one thread:
-# --no-prefetch) of the first and the last quarter of the long run. Targets (the testing issue):
-# peak memory within 10 % of the short run's, the last quarter's median within 10 % of the first
-# quarter's. A standing vehicle matches faster than a moving one, so the default stretch (2019-01-18
-# from pose 5000) is one that moves in both quarters; and since the quarters still see different
-# streets, the script also runs the last quarter's scans alone, from a fresh start, and compares the
-# same scans: what a long run costs by itself. A benchmark, not a test: run it on a quiet machine
-# (docs/testing.md).
+# 2,000-scan stretch of an Oxford drive (or takes SEQ), runs the odometry on its first 500 scans
+# and on all of them, and prints the peak memory of each run and the median match ms a scan (one
+# thread: --no-prefetch) of the first and the last quarter of the long run. Targets (the testing
+# issue): peak memory within 10 % of the short run's, the last quarter's median within 10 % of the
+# first quarter's. A standing vehicle matches faster than a moving one, so the default stretch
+# (2019-01-18 from pose 5000) is one that moves in both quarters; and since the quarters still see
+# different streets, the script also runs the last quarter's scans alone, from a fresh start, and
+# compares the same scans: what a long run costs by itself. A benchmark, not a test: run it on a
+# quiet machine (docs/testing.md).
 #
 # Usage: scripts/long_run.sh [SEQ]   (SEQ: an Oxford-layout sequence of at least 2,000 scans)
 # Needs GNU time (/usr/bin/time, Debian package `time`) for the peak memory.

@@ -30,61 +30,90 @@ void addPipelineOptions(po::options_description& opts) {
   const ScanningRunOptions s;
   // clang-format off
   opts.add_options()
-    ("format", po::value<std::string>()->required(), "dataset layout: nuscenes (automotive) | oxford | radiate (scanning)")
+    ("format", po::value<std::string>()->required(),
+     "dataset layout: nuscenes (automotive) | oxford | radiate (scanning)")
     ("dataroot", po::value<std::string>(), "nuscenes: the dataroot (holds v1.0-*/, samples/, sweeps/)")
-    ("sequence", po::value<std::vector<std::string>>()->multitoken(), "oxford: a directory with radar.timestamps, radar/<stamp>.png and optionally "
-                                                  "gt/radar_odometry.csv; radiate: one with Navtech_Polar.txt and Navtech_Polar/<frame>.png")
-    ("version", po::value<std::string>()->default_value(""), "nuscenes: table folder under dataroot (default: the one holding sensor.json)")
-    ("scene", po::value<std::string>()->default_value("all"), "nuscenes: scene name, or 'all' (each scene, then the mean)")
-    ("method", po::value<std::string>()->default_value("pw-ndt"), "pw-ndt (ours) | pcl-ndt | pcl-icp | doppler (Kellner's ego-velocity "
-                                                  "integration, nuscenes) | rapp-ndt (Doppler-weighted grid NDT, nuscenes)")
-    ("grid", po::value<double>(), ("NDT grid size g (m), default " + num(a.odometry.grid) + " (nuscenes) or " + num(s.odometry.grid) +
-                                   " (scanning); pcl-icp: max correspondence distance").c_str())
-    ("no-gate", po::bool_switch(), "accept every converged match: no motion-prior (nor, nuscenes, Doppler chi-square) check (ablation)")
+    ("sequence", po::value<std::vector<std::string>>()->multitoken(),
+     "oxford: a directory with radar.timestamps, radar/<stamp>.png and optionally "
+     "gt/radar_odometry.csv; radiate: one with Navtech_Polar.txt and Navtech_Polar/<frame>.png")
+    ("version", po::value<std::string>()->default_value(""),
+     "nuscenes: table folder under dataroot (default: the one holding sensor.json)")
+    ("scene", po::value<std::string>()->default_value("all"),
+     "nuscenes: scene name, or 'all' (each scene, then the mean)")
+    ("method", po::value<std::string>()->default_value("pw-ndt"),
+     "pw-ndt (ours) | pcl-ndt | pcl-icp | doppler (Kellner's ego-velocity "
+     "integration, nuscenes) | rapp-ndt (Doppler-weighted grid NDT, nuscenes)")
+    ("grid", po::value<double>(),
+     ("NDT grid size g (m), default " + num(a.odometry.grid) + " (nuscenes) or " + num(s.odometry.grid) +
+     " (scanning); pcl-icp: max correspondence distance").c_str())
+    ("no-gate", po::bool_switch(),
+     "accept every converged match: no motion-prior (nor, nuscenes, Doppler chi-square) check (ablation)")
     ("max-cycles", po::value<std::size_t>(), "stop after this many cycles per scene, or scans (default: all)")
-    ("max-range", po::value<double>(), ("nuscenes: drop detections beyond this range (m), default " + num(a.sequence.filter.max_range) +
-                                        "; scanning: front-end range limit, default " + num(s.front_end.max_range)).c_str())
-    ("mode", po::value<std::string>(), (std::string("nuscenes: cycle-to-map (the newest cycle to a local map of earlier cycles, fused with the "
-                                        "Doppler motion) | paper (submap to submap, not fused: the paper's scheme); default ") +
-                                        toString(a.odometry.mode)).c_str())
-    ("submap", po::value<std::size_t>(), ("nuscenes, paper mode: N, radar cycles per submap (default " + num(static_cast<double>(a.odometry.submap_size)) + ")").c_str())
+    ("max-range", po::value<double>(),
+     ("nuscenes: drop detections beyond this range (m), default " + num(a.sequence.filter.max_range) +
+     "; scanning: front-end range limit, default " + num(s.front_end.max_range)).c_str())
+    ("mode", po::value<std::string>(),
+     (std::string("nuscenes: cycle-to-map (the newest cycle to a local map of earlier cycles, fused with the "
+     "Doppler motion) | paper (submap to submap, not fused: the paper's scheme); default ") +
+     toString(a.odometry.mode)).c_str())
+    ("submap", po::value<std::size_t>(),
+     ("nuscenes, paper mode: N, radar cycles per submap (default " +
+      num(static_cast<double>(a.odometry.submap_size)) + ")").c_str())
     ("map-cycles", po::value<std::size_t>(), ("nuscenes, cycle-to-map: M, earlier cycles in the local map (default " +
                                               num(static_cast<double>(a.odometry.map_cycles)) + ")").c_str())
-    ("no-fusion", po::bool_switch(), "nuscenes: the accepted match is the motion, not fused with the Doppler motion (ablation; paper mode never fuses)")
-    ("covariance", po::value<std::string>(), "nuscenes: point covariance: polar (ARS408 range/azimuth spec, default) | rms (reported x_rms/y_rms)")
-    ("reference-channel", po::value<std::string>(), "nuscenes: radar channel that clocks the cycles (default: the forward-facing one)")
-    ("channels", po::value<std::string>(), "nuscenes: comma-separated radar channels to use (default: every radar in sensor.json); one "
-                                           "channel runs a one-radar car")
-    ("doppler-threshold", po::value<double>(), ("nuscenes: ego-velocity RANSAC inlier and moving-detection threshold on |Doppler − "
-                                                "predicted| (m/s), default " + num(a.front_end.ego_velocity.inlier_threshold)).c_str())
-    ("lateral-sigma", po::value<double>(), ("nuscenes: ego-velocity: σ (m/s) of the prior vy = 0 at the vehicle origin (nuScenes: the rear "
-                                            "axle), default " + num(a.front_end.ego_velocity.lateral_sigma) + "; 0: none, the plain 3-DoF fit").c_str())
-    ("ego-model", po::value<std::string>(), "nuscenes: ego-velocity model: auto (default: full when radars sit at two places or more, else "
-                                            "nonholonomic) | full (vx, vy, yaw rate) | nonholonomic (vy = 0: one radar suffices)")
-    ("no-time-compensation", po::bool_switch(), "nuscenes: do not move each radar's sweep to the reference time (ablation)")
-    ("keep-moving", po::bool_switch(), "nuscenes: do not remove detections that disagree with the Doppler ego-velocity (ablation)")
+    ("no-fusion", po::bool_switch(),
+     "nuscenes: the accepted match is the motion, not fused with the Doppler motion (ablation; paper mode never fuses)")
+    ("covariance", po::value<std::string>(),
+     "nuscenes: point covariance: polar (ARS408 range/azimuth spec, default) | rms (reported x_rms/y_rms)")
+    ("reference-channel", po::value<std::string>(),
+     "nuscenes: radar channel that clocks the cycles (default: the forward-facing one)")
+    ("channels", po::value<std::string>(),
+     "nuscenes: comma-separated radar channels to use (default: every radar in sensor.json); one "
+     "channel runs a one-radar car")
+    ("doppler-threshold", po::value<double>(),
+     ("nuscenes: ego-velocity RANSAC inlier and moving-detection threshold on |Doppler − "
+     "predicted| (m/s), default " + num(a.front_end.ego_velocity.inlier_threshold)).c_str())
+    ("lateral-sigma", po::value<double>(),
+     ("nuscenes: ego-velocity: σ (m/s) of the prior vy = 0 at the vehicle origin (nuScenes: the rear "
+     "axle), default " + num(a.front_end.ego_velocity.lateral_sigma) + "; 0: none, the plain 3-DoF fit").c_str())
+    ("ego-model", po::value<std::string>(),
+     "nuscenes: ego-velocity model: auto (default: full when radars sit at two places or more, else "
+     "nonholonomic) | full (vx, vy, yaw rate) | nonholonomic (vy = 0: one radar suffices)")
+    ("no-time-compensation", po::bool_switch(),
+     "nuscenes: do not move each radar's sweep to the reference time (ablation)")
+    ("keep-moving", po::bool_switch(),
+     "nuscenes: do not remove detections that disagree with the Doppler ego-velocity (ablation)")
     ("start", po::value<std::size_t>(), "scanning: first scan used (default 0)")
-    ("threshold", po::value<double>(), ("scanning: power threshold (0..1) of the front-end, default " + num(s.front_end.threshold)).c_str())
+    ("threshold", po::value<double>(),
+     ("scanning: power threshold (0..1) of the front-end, default " + num(s.front_end.threshold)).c_str())
     ("power-shift", po::value<double>(), ("scanning, pw-ndt: power shift s of the weights max(p - s, 0), default " +
                                           num(s.odometry.power_shift) + "; 0 turns it off").c_str())
-    ("no-source-shift", po::bool_switch(), "scanning, pw-ndt: shift the cells' weights (eq. 1) only; the matching weights are "
-                                           "p·exp(-(σx+σy)/2) (ablation; the paper shifts both)")
-    ("points", po::value<std::string>(), "scanning: cartesian (the paper's image, default) | polar (one point per cell)")
-    ("pixel", po::value<double>(), ("scanning, cartesian: metres per pixel, default " + num(s.front_end.cartesian_resolution)).c_str())
-    ("bin-size", po::value<double>(), ("oxford: range bin size (m), default " + num(s.sequence.oxford.convention.range_resolution) +
-                                       " (the dataset's figure; its SDK uses 0.0432)").c_str())
-    ("bins", po::value<int>(), ("oxford: range bins a PNG row must have after its 11 metadata bytes, default " +
-                                num(s.sequence.oxford.expected_bins) + " (the CTS350-X's); 0 accepts any width").c_str())
-    ("keyframe-distance", po::value<double>(), ("scanning: match to a keyframe replaced after this many metres (or " +
-                                                num(s.odometry.keyframes.rotation) + " rad, or a failed match), default " +
-                                                num(s.odometry.keyframes.distance) + "; 0: scan to scan as the paper").c_str())
-    ("no-motion-compensation", po::bool_switch(), "scanning: do not move points to the scan's reference time (ablation)")
+    ("no-source-shift", po::bool_switch(),
+     "scanning, pw-ndt: shift the cells' weights (eq. 1) only; the matching weights are "
+     "p·exp(-(σx+σy)/2) (ablation; the paper shifts both)")
+    ("points", po::value<std::string>(),
+     "scanning: cartesian (the paper's image, default) | polar (one point per cell)")
+    ("pixel", po::value<double>(),
+     ("scanning, cartesian: metres per pixel, default " + num(s.front_end.cartesian_resolution)).c_str())
+    ("bin-size", po::value<double>(),
+     ("oxford: range bin size (m), default " + num(s.sequence.oxford.convention.range_resolution) +
+     " (the dataset's figure; its SDK uses 0.0432)").c_str())
+    ("bins", po::value<int>(),
+     ("oxford: range bins a PNG row must have after its 11 metadata bytes, default " +
+     num(s.sequence.oxford.expected_bins) + " (the CTS350-X's); 0 accepts any width").c_str())
+    ("keyframe-distance", po::value<double>(),
+     ("scanning: match to a keyframe replaced after this many metres (or " +
+     num(s.odometry.keyframes.rotation) + " rad, or a failed match), default " +
+     num(s.odometry.keyframes.distance) + "; 0: scan to scan as the paper").c_str())
+    ("no-motion-compensation", po::bool_switch(),
+     "scanning: do not move points to the scan's reference time (ablation)")
     ("compensation-rounds", po::value<int>(), ("scanning: matches per scan at most, the velocity of the points' motion "
                                                "compensation re-estimated between them, default " +
                                                std::to_string(s.odometry.compensation.max_rounds)).c_str())
-    ("compensation-tolerance", po::value<double>(), ("scanning: another compensation round only when the match moved the "
-                                                     "velocity by more (m/s; yaw rate x 10 m), default " +
-                                                     num(s.odometry.compensation.tolerance)).c_str())
+    ("compensation-tolerance", po::value<double>(),
+     ("scanning: another compensation round only when the match moved the "
+     "velocity by more (m/s; yaw rate x 10 m), default " +
+     num(s.odometry.compensation.tolerance)).c_str())
     ("no-prefetch", po::bool_switch(), "scanning: decode the next scan on the main thread (timing comparison)")
     ("quiet,q", po::bool_switch(), "no progress bar");
   // clang-format on
@@ -133,11 +162,13 @@ ScanningRunOptions scanningOptions(const po::variables_map& vm) {
   if (has("compensation-tolerance")) od.compensation.tolerance = vm["compensation-tolerance"].as<double>();
   od.shift_source_weights = !vm["no-source-shift"].as<bool>();
   if (has("keyframe-distance")) od.keyframes.distance = vm["keyframe-distance"].as<double>();
-  if (vm["no-gate"].as<bool>()) od.gate.max_acceleration = od.gate.max_yaw_acceleration = std::numeric_limits<double>::infinity();
+  if (vm["no-gate"].as<bool>())
+    od.gate.max_acceleration = od.gate.max_yaw_acceleration = std::numeric_limits<double>::infinity();
   if (has("threshold")) o.front_end.threshold = static_cast<float>(vm["threshold"].as<double>());
   if (has("points")) {
     const std::string points = vm["points"].as<std::string>();
-    if (points != "cartesian" && points != "polar") throw std::invalid_argument("--points must be cartesian or polar, not '" + points + "'");
+    if (points != "cartesian" && points != "polar")
+      throw std::invalid_argument("--points must be cartesian or polar, not '" + points + "'");
     o.front_end.cartesian = points == "cartesian";
   }
   if (has("pixel")) o.front_end.cartesian_resolution = vm["pixel"].as<double>();
@@ -175,7 +206,8 @@ void Progress::operator()(std::size_t done, std::size_t total) const {
   if (!enabled || (done % 10 != 0 && done != total)) return;
   const int width = 30;
   const int filled = total ? static_cast<int>(width * done / total) : width;
-  std::fprintf(stderr, "\r%-12s [%s%s] %zu/%zu", label.c_str(), std::string(static_cast<std::size_t>(filled), '#').c_str(),
+  std::fprintf(stderr, "\r%-12s [%s%s] %zu/%zu", label.c_str(),
+               std::string(static_cast<std::size_t>(filled), '#').c_str(),
                std::string(static_cast<std::size_t>(width - filled), ' ').c_str(), done, total);
   if (done == total) std::fprintf(stderr, "\n");
 }

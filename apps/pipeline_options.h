@@ -34,7 +34,8 @@ ScanningRunOptions scanningOptions(const boost::program_options::variables_map& 
 /// The dataroot --dataroot and --version name (std::invalid_argument without --dataroot).
 NuScenesDataset openDataset(const boost::program_options::variables_map& vm);
 /// The scenes --scene names: one, or every scene of the dataset for "all".
-std::vector<const NuScenesScene*> selectScenes(const NuScenesDataset& dataset, const boost::program_options::variables_map& vm);
+std::vector<const NuScenesScene*> selectScenes(const NuScenesDataset& dataset,
+                                               const boost::program_options::variables_map& vm);
 
 /// --sequence's directories (at least one; std::invalid_argument otherwise).
 std::vector<std::string> sequenceDirs(const boost::program_options::variables_map& vm);

@@ -5,10 +5,10 @@
 #include <pcl/console/time.h>
 
 #include "app_common.h"
-#include "radar_ndt/evaluation/svg_plot.h"
-#include "radar_ndt/evaluation/report.h"
-#include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/evaluation/metrics.h"
+#include "radar_ndt/evaluation/report.h"
+#include "radar_ndt/evaluation/svg_plot.h"
+#include "radar_ndt/io/trajectory_io.h"
 
 using namespace radar_ndt;
 namespace po = boost::program_options;
@@ -24,7 +24,8 @@ int main(int argc, char** argv) {
     ("help,h", "print this help and exit")
     ("gt", po::value(&gt_path)->required(), "ground-truth trajectory (KITTI or TUM)")
     ("est", po::value(&est_path)->required(), "estimated trajectory (KITTI or TUM)")
-    ("format", po::value(&format_text)->default_value("auto"), "file format of both: auto|kitti|tum (auto: 12 columns KITTI, 8 TUM)")
+    ("format", po::value(&format_text)->default_value("auto"),
+     "file format of both: auto|kitti|tum (auto: 12 columns KITTI, 8 TUM)")
     ("metric", po::value(&metric_text)->default_value("kitti"), "kitti|1m|frame|ate|all, or a comma-separated list")
     ("kitti-step", po::value(&kitti_step)->default_value(10), "kitti: a first frame every N poses")
     ("segment-length", po::value(&one_m)->default_value(1.0), "1m: segment length (m)")

@@ -18,12 +18,12 @@
 #include <pcl/registration/ndt_2d.h>
 
 #include "app_common.h"
-#include "radar_ndt/odometry/matcher.h"
-#include "radar_ndt/pipeline/nuscenes_sequence.h"
 #include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/frontend/probabilistic_submap.h"
-#include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/frontend/radar_cycle.h"
+#include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/odometry/matcher.h"
+#include "radar_ndt/pipeline/nuscenes_sequence.h"
 #include "radar_ndt/registration/weighted_ndt_2d.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/sim/synthetic_scan.h"
@@ -100,8 +100,10 @@ int benchNuScenes(const std::string& dataroot, std::size_t stride, bool json) {
   }
   nlohmann::json j;
   j["pairs"] = pairs.size();
-  if (!json) std::printf("radar_ndt_bench --nuscenes: %zu real submap pairs (N = 3), Doppler initial guess\n%-10s %10s %14s %14s\n",
-                         pairs.size(), "method", "ms median", "trans err m", "rot err deg");
+  if (!json)
+    std::printf(
+        "radar_ndt_bench --nuscenes: %zu real submap pairs (N = 3), Doppler initial guess\n%-10s %10s %14s %14s\n",
+        pairs.size(), "method", "ms median", "trans err m", "rot err deg");
   for (const radar_ndt::Method m : {radar_ndt::Method::PwNdt, radar_ndt::Method::PclNdt, radar_ndt::Method::PclIcp}) {
     std::vector<double> ms;
     double et = 0, er = 0;
@@ -119,8 +121,10 @@ int benchNuScenes(const std::string& dataroot, std::size_t stride, bool json) {
     }
     std::nth_element(ms.begin(), ms.begin() + static_cast<std::ptrdiff_t>(ms.size() / 2), ms.end());
     const double n = static_cast<double>(std::max<std::size_t>(pairs.size(), 1));
-    j["methods"][toString(m)] = {{"ms_median", ms.empty() ? 0.0 : ms[ms.size() / 2]}, {"trans_err_m", et / n}, {"rot_err_deg", er / n}};
-    if (!json) std::printf("%-10s %10.3f %14.4f %14.4f\n", toString(m), ms.empty() ? 0.0 : ms[ms.size() / 2], et / n, er / n);
+    j["methods"][toString(m)] = {
+        {"ms_median", ms.empty() ? 0.0 : ms[ms.size() / 2]}, {"trans_err_m", et / n}, {"rot_err_deg", er / n}};
+    if (!json)
+      std::printf("%-10s %10.3f %14.4f %14.4f\n", toString(m), ms.empty() ? 0.0 : ms[ms.size() / 2], et / n, er / n);
   }
   if (json) std::cout << j.dump(2) << std::endl;
   return 0;
@@ -134,14 +138,17 @@ int benchScanningFrontEnds(const std::string& dir, bool json) {
   const auto stamps = readOxfordTimestamps(dir + "/radar.timestamps");
   const auto gt = readOxfordRadarOdometry(dir + "/gt/radar_odometry.csv");
   if (stamps.size() < 3 || gt.size() + 1 != stamps.size())
-    throw std::invalid_argument(dir + ": needs at least 3 scans and one gt/radar_odometry.csv row per consecutive pair");
+    throw std::invalid_argument(dir +
+                                ": needs at least 3 scans and one gt/radar_odometry.csv row per consecutive pair");
   auto truth = [&](std::size_t k) { return Pose2(gt[k].x, -gt[k].y, -gt[k].yaw); };  // Oxford axes → vehicle
   nlohmann::json j;
   j["pairs"] = stamps.size() - 2;
   if (!json)
-    std::printf("radar_ndt_bench --oxford: %zu scan pairs of %s, WeightedNDT2D g = 3.75 m, s = 0.333, constant-velocity guess\n"
-                "%-10s %12s %14s %10s %14s %14s\n",
-                stamps.size() - 2, dir.c_str(), "front-end", "points/scan", "front-end ms", "match ms", "trans err m", "rot err deg");
+    std::printf(
+        "radar_ndt_bench --oxford: %zu scan pairs of %s, WeightedNDT2D g = 3.75 m, s = 0.333, constant-velocity guess\n"
+        "%-10s %12s %14s %10s %14s %14s\n",
+        stamps.size() - 2, dir.c_str(), "front-end", "points/scan", "front-end ms", "match ms", "trans err m",
+        "rot err deg");
   for (const bool cartesian : {true, false}) {
     PowerThresholdOptions o;
     o.cartesian = cartesian;
@@ -178,10 +185,14 @@ int benchScanningFrontEnds(const std::string& dir, bool json) {
     };
     const double n = static_cast<double>(stamps.size() - 2);
     const char* name = cartesian ? "cartesian" : "polar";
-    j["front_ends"][name] = {{"points_median", median(points)}, {"front_end_ms_median", median(ms_front)},
-                             {"match_ms_median", median(ms_match)}, {"trans_err_m", et / n}, {"rot_err_deg", er / n}};
+    j["front_ends"][name] = {{"points_median", median(points)},
+                             {"front_end_ms_median", median(ms_front)},
+                             {"match_ms_median", median(ms_match)},
+                             {"trans_err_m", et / n},
+                             {"rot_err_deg", er / n}};
     if (!json)
-      std::printf("%-10s %12.0f %14.2f %10.2f %14.4f %14.4f\n", name, median(points), median(ms_front), median(ms_match), et / n, er / n);
+      std::printf("%-10s %12.0f %14.2f %10.2f %14.4f %14.4f\n", name, median(points), median(ms_front),
+                  median(ms_match), et / n, er / n);
   }
   if (json) std::cout << j.dump(2) << std::endl;
   return 0;
@@ -212,10 +223,14 @@ int main(int argc, char** argv) {
     ("no-icp", po::bool_switch(), "skip pcl::IterativeClosestPoint")
     ("no-ndt2d", po::bool_switch(), "skip pcl::NormalDistributionsTransform2D")
     ("variants", po::bool_switch(), "also run WeightedNDT2D with overlapping grids, and without the source voxel merge")
-    ("nuscenes", po::value(&nuscenes_root), "instead: real N = 3 submap pairs from this nuScenes-layout dataroot (ours, PCL NDT, PCL ICP)")
-    ("oxford", po::value(&oxford_dir), "instead: the scanning front-end's Cartesian and polar paths on the scan pairs of this Oxford-layout sequence (e.g. radar_sim's)")
+    ("nuscenes", po::value(&nuscenes_root),
+     "instead: real N = 3 submap pairs from this nuScenes-layout dataroot (ours, PCL NDT, PCL ICP)")
+    ("oxford", po::value(&oxford_dir),
+     "instead: the scanning front-end's Cartesian and polar paths on the scan pairs of this Oxford-layout sequence "
+     "(e.g. radar_sim's)")
     ("nuscenes-stride", po::value(&nuscenes_stride)->default_value(5), "with --nuscenes: every k-th cycle")
-    ("json", po::bool_switch(&json), "print one JSON object: per method ms_median, trans_err_m, rot_err_deg, converged_frac");
+    ("json", po::bool_switch(&json),
+     "print one JSON object: per method ms_median, trans_err_m, rot_err_deg, converged_frac");
   // clang-format on
   const std::string usage =
       "Usage: radar_ndt_bench [--pairs N] [--sizes 5000,10000,20000] [--json]\n"
@@ -242,7 +257,8 @@ int main(int argc, char** argv) {
 
     std::vector<BenchMethod> methods;
     char buf[256];
-    std::snprintf(buf, sizeof(buf), "g=%.2f m, s=%.2f, neighbour-cell lookup, source voxel 0.25 m, max 35 it, eps 1e-6 m^2", grid, shift);
+    std::snprintf(buf, sizeof(buf),
+                  "g=%.2f m, s=%.2f, neighbour-cell lookup, source voxel 0.25 m, max 35 it, eps 1e-6 m^2", grid, shift);
     // Ours with the benchmark's g and s; the variants change one setting each.
     const auto ours = [=](CellLookup lookup, double voxel) {
       return [=]() -> Reg::Ptr {
@@ -349,11 +365,12 @@ int main(int argc, char** argv) {
       return median(v);
     }();
     if (!json) {
-      std::printf("radar_ndt_bench: %zu pairs of %s points, noise %.2f m, clutter %.0f %%, transforms up to %.1f m "
-                  "and %.1f deg, identity guess, single thread\n\n",
-                  pairs, sizes_text.c_str(), noise, 100 * clutter, max_t, max_r);
-      std::printf("%-36s %10s %10s %12s %12s %10s %9s\n", "method", "ms median", "ms @10k", "trans err m", "rot err deg",
-                  "converged", "ours is");
+      std::printf(
+          "radar_ndt_bench: %zu pairs of %s points, noise %.2f m, clutter %.0f %%, transforms up to %.1f m "
+          "and %.1f deg, identity guess, single thread\n\n",
+          pairs, sizes_text.c_str(), noise, 100 * clutter, max_t, max_r);
+      std::printf("%-36s %10s %10s %12s %12s %10s %9s\n", "method", "ms median", "ms @10k", "trans err m",
+                  "rot err deg", "converged", "ours is");
     }
     for (const auto& m : methods) {
       const auto& v = results[m.name];
@@ -368,12 +385,9 @@ int main(int argc, char** argv) {
       }
       const double n = static_cast<double>(v.size());
       const double med = median(ms);
-      j["methods"][m.name] = {{"ms_median", med},
-                              {"ms_median_10k", ms10k.empty() ? 0.0 : median(ms10k)},
-                              {"trans_err_m", te / n},
-                              {"rot_err_deg", re / n},
-                              {"converged_frac", conv / n},
-                              {"speed_ratio_ours", med / ours_ms},
+      j["methods"][m.name] = {{"ms_median", med},           {"ms_median_10k", ms10k.empty() ? 0.0 : median(ms10k)},
+                              {"trans_err_m", te / n},      {"rot_err_deg", re / n},
+                              {"converged_frac", conv / n}, {"speed_ratio_ours", med / ours_ms},
                               {"settings", m.settings}};
       if (!json) {
         char ratio[32] = "";
@@ -389,13 +403,16 @@ int main(int argc, char** argv) {
     if (json) {
       std::cout << j.dump(2) << std::endl;
     } else {
-      std::printf("\n(trans/rot err: mean over pairs against the known transform; 'ours is': how many times faster"
-                  " WeightedNDT2D is)\n\nSettings:\n");
+      std::printf(
+          "\n(trans/rot err: mean over pairs against the known transform; 'ours is': how many times faster"
+          " WeightedNDT2D is)\n\nSettings:\n");
       for (const auto& m : methods) std::printf("  %-36s %s\n", m.name.c_str(), m.settings.c_str());
       std::printf("WeightedNDT2D target model of a 10k-point scan: %zu cells, %.1f KiB\n", model_cells,
                   static_cast<double>(model_bytes) / 1024.0);
-      std::printf("PCL target kd-tree of a 10k-point scan (built by every pcl::Registration::align, not by ours):"
-                  " %.2f ms median\n", median(kdtree_ms_10k));
+      std::printf(
+          "PCL target kd-tree of a 10k-point scan (built by every pcl::Registration::align, not by ours):"
+          " %.2f ms median\n",
+          median(kdtree_ms_10k));
     }
     return 0;
   });

@@ -52,7 +52,8 @@ json finish(const Run& r, const std::string& name, const Outputs& o, std::option
   if (o.eval) {
     const PosePairs pairs = associate(r.ground_truth, r.estimate);
     report = evaluate(pairs, o.metric.empty() ? defaultMetrics(r) : parseMetrics(o.metric));
-    if (!o.plot.empty()) writeEvaluationSvg(o.fileFor(o.plot, name), pairs, *report, name + " (" + toString(r.method) + ")");
+    if (!o.plot.empty())
+      writeEvaluationSvg(o.fileFor(o.plot, name), pairs, *report, name + " (" + toString(r.method) + ")");
   }
   if (!o.json) {
     std::cout << summaryText(r);
@@ -83,7 +84,8 @@ int runAutomotive(const po::variables_map& vm, const Outputs& base) {
   std::vector<json> runs;
   std::vector<EvaluationReport> reports;
   for (const NuScenesScene* scene : scenes) {
-    const AutomotiveRunResult r = runAutomotiveOdometry(dataset, *scene, options, apps::Progress{o.progress, scene->name});
+    const AutomotiveRunResult r =
+        runAutomotiveOdometry(dataset, *scene, options, apps::Progress{o.progress, scene->name});
     std::optional<EvaluationReport> report;
     runs.push_back(finish(r, scene->name, o, report));
     if (report) reports.push_back(*report);
@@ -109,14 +111,18 @@ int runScanning(const po::variables_map& vm, const Outputs& base) {
   for (const std::string& dir : dirs) {
     const ScanningSequence sequence(dir, format, options.sequence);
     if (o.eval && !sequence.hasGroundTruth())
-      throw std::invalid_argument("--eval: " + dir + " has no ground truth (oxford: gt/radar_odometry.csv; radiate has none)");
+      throw std::invalid_argument("--eval: " + dir +
+                                  " has no ground truth (oxford: gt/radar_odometry.csv; radiate has none)");
     std::unique_ptr<TopViewMap> map;
     ScanCallback on_scan;
     if (!o.map.empty()) {
       map = std::make_unique<TopViewMap>(0.2);
-      on_scan = [&map](std::size_t, const OdometryStep& step, const pcl::PointCloud<PointRadar>& cloud) { map->add(cloud, step.pose); };
+      on_scan = [&map](std::size_t, const OdometryStep& step, const pcl::PointCloud<PointRadar>& cloud) {
+        map->add(cloud, step.pose);
+      };
     }
-    const ScanningRunResult r = runScanningOdometry(sequence, options, apps::Progress{o.progress, sequence.name()}, on_scan);
+    const ScanningRunResult r =
+        runScanningOdometry(sequence, options, apps::Progress{o.progress, sequence.name()}, on_scan);
     if (map) map->writePng(o.map);
     std::optional<EvaluationReport> report;
     runs.push_back(finish(r, sequence.name(), o, report));
@@ -134,23 +140,32 @@ int main(int argc, char** argv) {
   apps::addPipelineOptions(opts);
   // clang-format off
   opts.add_options()
-    ("out", po::value<std::string>(), "write the trajectory here (several scenes or sequences: one file each, NAME inserted before the extension)")
+    ("out", po::value<std::string>(),
+     "write the trajectory here (several scenes or sequences: one file each, NAME inserted before the extension)")
     ("out-format", po::value<std::string>()->default_value("tum"), "kitti | tum (TUM keeps the cycle timestamps)")
-    ("steps", po::value<std::string>(), "write one CSV line per cycle or scan: status, attempts, grid, motion, initial guess, points "
-                                        "(nuscenes: and the ground-truth motion)")
-    ("eval", po::bool_switch(), "compare with the ground truth (nuscenes: the scene's ego poses; oxford: gt/radar_odometry.csv)")
-    ("metric", po::value<std::string>(), "with --eval: kitti|1m|frame|ate|all, or a list; default 1m (nuscenes), kitti,frame (scanning)")
-    ("json", po::bool_switch(), "print one JSON object (summary, and with --eval a \"metrics\" entry shaped as radar_eval's; several "
-                                "runs: {\"scenes\"|\"sequences\": [...], \"mean\": {\"metrics\": ...}})")
+    ("steps", po::value<std::string>(),
+     "write one CSV line per cycle or scan: status, attempts, grid, motion, initial guess, points "
+     "(nuscenes: and the ground-truth motion)")
+    ("eval", po::bool_switch(),
+     "compare with the ground truth (nuscenes: the scene's ego poses; oxford: gt/radar_odometry.csv)")
+    ("metric", po::value<std::string>(),
+     "with --eval: kitti|1m|frame|ate|all, or a list; default 1m (nuscenes), kitti,frame (scanning)")
+    ("json", po::bool_switch(),
+     "print one JSON object (summary, and with --eval a \"metrics\" entry shaped as radar_eval's; several "
+     "runs: {\"scenes\"|\"sequences\": [...], \"mean\": {\"metrics\": ...}})")
     ("plot", po::value<std::string>(), "with --eval: SVG of estimate vs ground truth (one per scene or sequence)")
-    ("map", po::value<std::string>(), "scanning: write a top-view PNG of all scans at their estimated poses (0.2 m/pixel; one --sequence)");
+    ("map", po::value<std::string>(),
+     "scanning: write a top-view PNG of all scans at their estimated poses (0.2 m/pixel; one --sequence)");
   // clang-format on
   const std::string usage =
-      "Usage: radar_odometry --format nuscenes --dataroot DIR [--scene NAME|all] [--method pw-ndt|pcl-ndt|pcl-icp|doppler|rapp-ndt]\n"
-      "                      [--mode cycle-to-map|paper] [--map-cycles M] [--submap N] [--grid G] [--out traj.txt] [--eval]\n"
+      "Usage: radar_odometry --format nuscenes --dataroot DIR [--scene NAME|all] [--method "
+      "pw-ndt|pcl-ndt|pcl-icp|doppler|rapp-ndt]\n"
+      "                      [--mode cycle-to-map|paper] [--map-cycles M] [--submap N] [--grid G] [--out traj.txt] "
+      "[--eval]\n"
       "                      [--metric 1m|kitti|frame|ate|all] [--json] [--plot out.svg]\n"
       "       radar_odometry --format oxford|radiate --sequence DIR... [--method pw-ndt|pcl-ndt|pcl-icp] [--grid G]\n"
-      "                      [--threshold T] [--power-shift S] [--points cartesian|polar] [--out traj.txt] [--eval] [--json]\n"
+      "                      [--threshold T] [--power-shift S] [--points cartesian|polar] [--out traj.txt] [--eval] "
+      "[--json]\n"
       "                      [--plot out.svg] [--map top.png]\n"
       "nuscenes: one pose per radar cycle (one sweep of every radar, clocked by the reference radar), the\n"
       "vehicle frame at the reference sweep's timestamp; each cycle matched to a local map of the M cycles before it\n"
@@ -180,6 +195,7 @@ int main(int argc, char** argv) {
     if (!o.metric.empty()) parseMetrics(o.metric);
     if (!o.map.empty() && apps::pipelineOf(vm["format"].as<std::string>()) != apps::Pipeline::Scanning)
       throw std::invalid_argument("--map is for the scanning pipeline (--format oxford|radiate)");
-    return apps::pipelineOf(vm["format"].as<std::string>()) == apps::Pipeline::Automotive ? runAutomotive(vm, o) : runScanning(vm, o);
+    return apps::pipelineOf(vm["format"].as<std::string>()) == apps::Pipeline::Automotive ? runAutomotive(vm, o)
+                                                                                          : runScanning(vm, o);
   });
 }

@@ -31,25 +31,27 @@ namespace {
 
 /// --format oxford|radiate: ours vs PCL's NDT and ICP, and the paper's ablations, on every
 /// sequence, KITTI metric and frame-to-frame errors; one markdown table (or JSON).
-int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const std::vector<std::string>& dirs, std::size_t sweep_scans,
-                     bool json_out, bool progress_on) {
+int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const std::vector<std::string>& dirs,
+                     std::size_t sweep_scans, bool json_out, bool progress_on) {
   std::vector<std::unique_ptr<ScanningSequence>> sequences;
   for (const auto& d : dirs) {
     sequences.push_back(std::make_unique<ScanningSequence>(d, format, base.sequence));
-    if (!sequences.back()->hasGroundTruth()) throw std::invalid_argument("--table: " + d + " has no ground truth (gt/radar_odometry.csv)");
+    if (!sequences.back()->hasGroundTruth())
+      throw std::invalid_argument("--table: " + d + " has no ground truth (gt/radar_odometry.csv)");
   }
   struct Row {
     std::string group, name;
     std::vector<double> trans, rot, frame_t, frame_r, match_ms, fe_ms, fallbacks;
   };
-  auto run = [&](const std::string& group, const std::string& name, const ScanningRunOptions& o, std::size_t max_scans = 0,
-                 std::size_t n_sequences = 0) {
+  auto run = [&](const std::string& group, const std::string& name, const ScanningRunOptions& o,
+                 std::size_t max_scans = 0, std::size_t n_sequences = 0) {
     Row row{group, name, {}, {}, {}, {}, {}, {}, {}};
     const std::size_t ns = n_sequences ? n_sequences : sequences.size();
     for (std::size_t i = 0; i < ns; ++i) {
       ScanningRunOptions oo = o;
       if (max_scans) oo.max_scans = max_scans;  // the sweep's; otherwise --max-cycles' (0: all)
-      const ScanningRunResult r = runScanningOdometry(*sequences[i], oo, apps::Progress{progress_on, name.substr(0, 12)});
+      const ScanningRunResult r =
+          runScanningOdometry(*sequences[i], oo, apps::Progress{progress_on, name.substr(0, 12)});
       const PosePairs pairs = associate(r.ground_truth, r.estimate);
       const EvaluationReport rep = evaluate(pairs, {Metric::Kitti, Metric::Frame});
       row.trans.push_back(rep.kitti->trans_err_pct);
@@ -74,8 +76,8 @@ int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const st
   for (const Method m : {Method::PclNdt, Method::PclIcp}) {
     ScanningRunOptions o = base;
     o.matcher.method = m;
-    std::snprintf(label, sizeof label, "%s, documented (%s %.2f m)", toString(m), m == Method::PclNdt ? "resolution" : "max corr.",
-                  o.odometry.grid);
+    std::snprintf(label, sizeof label, "%s, documented (%s %.2f m)", toString(m),
+                  m == Method::PclNdt ? "resolution" : "max corr.", o.odometry.grid);
     rows.push_back(run("comparison", label, o));
     const std::size_t documented = rows.size() - 1;
     // The sweep: the grid (NDT resolution / ICP correspondence distance) scored on the first
@@ -122,14 +124,21 @@ int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const st
   ablate("scan to scan (no keyframes, the paper)", [](ScanningRunOptions& o) { o.odometry.keyframes.distance = 0; });
   ablate("motion compensation off", [](ScanningRunOptions& o) { o.odometry.compensation.enabled = false; });
   ablate("polar points (no Cartesian image)", [](ScanningRunOptions& o) { o.front_end.cartesian = false; });
-  ablate("2x2-neighbour cell lookup", [](ScanningRunOptions& o) { o.matcher.ours.cell_lookup = CellLookup::Neighbours; });
+  ablate("2x2-neighbour cell lookup",
+         [](ScanningRunOptions& o) { o.matcher.ours.cell_lookup = CellLookup::Neighbours; });
 
   if (json_out) {
     json j = json::array();
     for (const auto& r : rows)
-      j.push_back({{"group", r.group}, {"name", r.name}, {"trans_err_pct", r.trans}, {"rot_err_deg_per_m", r.rot},
-                   {"frame_trans_err_m", r.frame_t}, {"frame_rot_err_deg", r.frame_r}, {"match_ms_median", r.match_ms},
-                   {"front_end_ms_median", r.fe_ms}, {"fallbacks", r.fallbacks}});
+      j.push_back({{"group", r.group},
+                   {"name", r.name},
+                   {"trans_err_pct", r.trans},
+                   {"rot_err_deg_per_m", r.rot},
+                   {"frame_trans_err_m", r.frame_t},
+                   {"frame_rot_err_deg", r.frame_r},
+                   {"match_ms_median", r.match_ms},
+                   {"front_end_ms_median", r.fe_ms},
+                   {"fallbacks", r.fallbacks}});
     std::cout << json{{"sequences", dirs}, {"rows", j}}.dump(2) << std::endl;
     return 0;
   }
@@ -150,8 +159,9 @@ int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const st
     }
     std::snprintf(b, sizeof b, " %.2f |", mean(r.trans));
     md << b;
-    std::snprintf(b, sizeof b, " %.4f | %.4f | %.4f | %.2f | %.2f | %.0f |\n", mean(r.rot), mean(r.frame_t), mean(r.frame_r), mean(r.match_ms),
-                  mean(r.fe_ms), mean(r.fallbacks) * static_cast<double>(r.fallbacks.size()));
+    std::snprintf(b, sizeof b, " %.4f | %.4f | %.4f | %.2f | %.2f | %.0f |\n", mean(r.rot), mean(r.frame_t),
+                  mean(r.frame_r), mean(r.match_ms), mean(r.fe_ms),
+                  mean(r.fallbacks) * static_cast<double>(r.fallbacks.size()));
     md << b;
   }
   md << "\nours vs each PCL row (mean translational error): ";
@@ -160,7 +170,8 @@ int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const st
       std::snprintf(b, sizeof b, "%.0f %% lower than ", 100.0 * (1.0 - ours_trans / mean(r.trans)));
       md << b << r.name << "; ";
     }
-  md << "\nPCL sweep (frame-to-frame translation error, m, first " << sweep_scans << " scans of " << sequences[0]->name() << "):";
+  md << "\nPCL sweep (frame-to-frame translation error, m, first " << sweep_scans << " scans of "
+     << sequences[0]->name() << "):";
   for (const auto& r : rows)
     if (r.group == "sweep") {
       std::snprintf(b, sizeof b, " %.4f;", r.frame_t[0]);
@@ -170,13 +181,12 @@ int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const st
   return 0;
 }
 
-
 /// --format nuscenes: the paper's table, rows N, columns ICP / ours / Kellner / Rapp in the paper's
 /// mode (submap to submap, not fused), 1m metric, mean over scenes; then the same four methods
 /// through the default pipeline as an extra row; then frame errors, ms per cycle by stage and
 /// fallbacks per method and row.
-int runNuScenesTable(const AutomotiveRunOptions& options, const NuScenesDataset& dataset, const std::vector<const NuScenesScene*>& scenes,
-                     bool json_out, bool progress_on) {
+int runNuScenesTable(const AutomotiveRunOptions& options, const NuScenesDataset& dataset,
+                     const std::vector<const NuScenesScene*>& scenes, bool json_out, bool progress_on) {
   struct Cell {
     double trans = 0, rot = 0, ate = 0, frame_t = 0, frame_r = 0, ms = 0, fallback = 0;
     StageTimes stages;
@@ -194,7 +204,8 @@ int runNuScenesTable(const AutomotiveRunOptions& options, const NuScenesDataset&
       for (const auto* scene : scenes) {
         AutomotiveRunOptions o = withMethod(options, method);
         if (N != kDefault) o.odometry = o.odometry.paper(N);
-        const std::string label = std::string(toString(method)) + (N == kDefault ? " default" : " N=" + std::to_string(N));
+        const std::string label =
+            std::string(toString(method)) + (N == kDefault ? " default" : " N=" + std::to_string(N));
         const AutomotiveRunResult r = runAutomotiveOdometry(dataset, *scene, o, apps::Progress{progress_on, label});
         const PosePairs pairs = associate(r.ground_truth, r.estimate);
         const EvaluationReport rep = evaluate(pairs, {Metric::OneMeter, Metric::Frame, Metric::Ate});
@@ -209,15 +220,20 @@ int runNuScenesTable(const AutomotiveRunOptions& options, const NuScenesDataset&
         c.stages.front_end_ms += r.median_ms.front_end_ms;
         c.stages.submap_ms += r.median_ms.submap_ms;
         c.stages.match_ms += r.median_ms.match_ms;
-        c.fallback += r.counters.cycles ? static_cast<double>(r.counters.fallbacks) / static_cast<double>(r.counters.cycles) : 0.0;
+        c.fallback += r.counters.cycles
+                          ? static_cast<double>(r.counters.fallbacks) / static_cast<double>(r.counters.cycles)
+                          : 0.0;
         ++c.n;
       }
   const AutomotiveOdometryOptions& d = options.odometry;
-  const std::string default_name = std::string(toString(d.mode)) + (d.mode == AutomotiveMatchMode::CycleToMap ? " M=" + std::to_string(d.map_cycles) : " N=" + std::to_string(d.submap_size)) +
+  const std::string default_name = std::string(toString(d.mode)) +
+                                   (d.mode == AutomotiveMatchMode::CycleToMap ? " M=" + std::to_string(d.map_cycles)
+                                                                              : " N=" + std::to_string(d.submap_size)) +
                                    (d.fuse_doppler ? ", fused" : "");
   json j = json::array();
   std::ostringstream md;
-  md << "| N | ICP trans % | ICP deg/m | ours trans % | ours deg/m | Kellner trans % | Kellner deg/m | Rapp trans % | Rapp deg/m |\n"
+  md << "| N | ICP trans % | ICP deg/m | ours trans % | ours deg/m | Kellner trans % | Kellner deg/m | Rapp trans % | "
+        "Rapp deg/m |\n"
      << "|---|---|---|---|---|---|---|---|---|\n";
   auto fmt = [](double v, int prec) {
     char b[32];
@@ -235,11 +251,20 @@ int runNuScenesTable(const AutomotiveRunOptions& options, const NuScenesDataset&
       const Cell& c = it->second;
       const double k = 1.0 / c.n;
       md << " | " << fmt(c.trans * k, 2) << " | " << fmt(c.rot * k, 3);
-      json e = {{"method", toString(m)}, {"trans_err_pct", c.trans * k}, {"rot_err_deg_per_m", c.rot * k}, {"ate_m", c.ate * k},
-                {"frame_trans_err_m", c.frame_t * k}, {"frame_rot_err_deg", c.frame_r * k}, {"ms_per_cycle", c.ms * k},
-                {"ms_per_cycle_by_stage", {{"read", c.stages.read_ms * k}, {"front_end", c.stages.front_end_ms * k},
-                                           {"submap", c.stages.submap_ms * k}, {"match", c.stages.match_ms * k}}},
-                {"fallback_rate", c.fallback * k}, {"scenes", c.n}};
+      json e = {{"method", toString(m)},
+                {"trans_err_pct", c.trans * k},
+                {"rot_err_deg_per_m", c.rot * k},
+                {"ate_m", c.ate * k},
+                {"frame_trans_err_m", c.frame_t * k},
+                {"frame_rot_err_deg", c.frame_r * k},
+                {"ms_per_cycle", c.ms * k},
+                {"ms_per_cycle_by_stage",
+                 {{"read", c.stages.read_ms * k},
+                  {"front_end", c.stages.front_end_ms * k},
+                  {"submap", c.stages.submap_ms * k},
+                  {"match", c.stages.match_ms * k}}},
+                {"fallback_rate", c.fallback * k},
+                {"scenes", c.n}};
       if (N == kDefault)
         e["pipeline"] = default_name;
       else
@@ -249,15 +274,18 @@ int runNuScenesTable(const AutomotiveRunOptions& options, const NuScenesDataset&
     md << " |\n";
   }
   std::ostringstream detail;
-  detail << "| method | row | ATE (m) | frame trans (m) | frame rot (deg) | ms/cycle (median) | read | front-end | submap | match | fallbacks |\n"
+  detail << "| method | row | ATE (m) | frame trans (m) | frame rot (deg) | ms/cycle (median) | read | front-end | "
+            "submap | match | fallbacks |\n"
          << "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& e : j) {
     const json& st = e["ms_per_cycle_by_stage"];
-    detail << "| " << e["method"].get<std::string>() << " | " << (e.contains("submap") ? "N=" + std::to_string(e["submap"].get<std::size_t>()) : "default")
-           << " | " << fmt(e["ate_m"].get<double>(), 3) << " | " << fmt(e["frame_trans_err_m"].get<double>(), 4) << " | "
+    detail << "| " << e["method"].get<std::string>() << " | "
+           << (e.contains("submap") ? "N=" + std::to_string(e["submap"].get<std::size_t>()) : "default") << " | "
+           << fmt(e["ate_m"].get<double>(), 3) << " | " << fmt(e["frame_trans_err_m"].get<double>(), 4) << " | "
            << fmt(e["frame_rot_err_deg"].get<double>(), 4) << " | " << fmt(e["ms_per_cycle"].get<double>(), 2) << " | "
-           << fmt(st["read"].get<double>(), 2) << " | " << fmt(st["front_end"].get<double>(), 2) << " | " << fmt(st["submap"].get<double>(), 3)
-           << " | " << fmt(st["match"].get<double>(), 2) << " | " << fmt(100.0 * e["fallback_rate"].get<double>(), 1) << " % |\n";
+           << fmt(st["read"].get<double>(), 2) << " | " << fmt(st["front_end"].get<double>(), 2) << " | "
+           << fmt(st["submap"].get<double>(), 3) << " | " << fmt(st["match"].get<double>(), 2) << " | "
+           << fmt(100.0 * e["fallback_rate"].get<double>(), 1) << " % |\n";
   }
   if (json_out)
     std::cout << json{{"table", j}}.dump(2) << std::endl;
@@ -268,8 +296,8 @@ int runNuScenesTable(const AutomotiveRunOptions& options, const NuScenesDataset&
 
 /// --noise-calibration (nuscenes): the fusion's covariances calibrated on every scene, and checked
 /// leaving each scene out in turn (calibrated on the others, mean NEES on it; 3 is calibrated).
-int runNoiseCalibration(const AutomotiveRunOptions& options, const NuScenesDataset& dataset, const std::vector<const NuScenesScene*>& scenes,
-                        bool json_out, bool progress_on) {
+int runNoiseCalibration(const AutomotiveRunOptions& options, const NuScenesDataset& dataset,
+                        const std::vector<const NuScenesScene*>& scenes, bool json_out, bool progress_on) {
   std::vector<std::vector<MotionNoiseSample>> per_scene;
   std::vector<AutomotiveRunResult> runs;
   for (const auto* scene : scenes) {
@@ -284,41 +312,64 @@ int runNoiseCalibration(const AutomotiveRunOptions& options, const NuScenesDatas
   };
   const MotionNoiseCalibration all = calibrateMotionNoise(all_but(per_scene.size()));
   auto cal_json = [](const MotionNoiseCalibration& c) {
-    return json{{"doppler_sigma_x", c.doppler_sigma_x}, {"doppler_sigma_y", c.doppler_sigma_y}, {"doppler_sigma_yaw", c.doppler_sigma_yaw},
-                {"match_covariance_scale", c.match_covariance_scale}, {"match_sigma_x", c.match_sigma_x}, {"match_sigma_y", c.match_sigma_y},
-                {"match_sigma_yaw", c.match_sigma_yaw}, {"doppler_samples", c.doppler_samples}, {"match_samples", c.match_samples}};
+    return json{{"doppler_sigma_x", c.doppler_sigma_x},     {"doppler_sigma_y", c.doppler_sigma_y},
+                {"doppler_sigma_yaw", c.doppler_sigma_yaw}, {"match_covariance_scale", c.match_covariance_scale},
+                {"match_sigma_x", c.match_sigma_x},         {"match_sigma_y", c.match_sigma_y},
+                {"match_sigma_yaw", c.match_sigma_yaw},     {"doppler_samples", c.doppler_samples},
+                {"match_samples", c.match_samples}};
   };
-  json out = {{"method", toString(options.matcher.method)}, {"calibrated_on_all", cal_json(all)}, {"leave_one_out", json::array()}};
+  json out = {{"method", toString(options.matcher.method)},
+              {"calibrated_on_all", cal_json(all)},
+              {"leave_one_out", json::array()}};
   std::ostringstream md;
   char b[256];
-  std::snprintf(b, sizeof b, "calibrated on all %zu scenes (%s): Doppler σ %.4f m/s, %.4f m/s, %.5f rad/s; match covariance x %.3f; "
-                "match σ %.4f m, %.4f m, %.5f rad\n\n", scenes.size(), toString(options.matcher.method), all.doppler_sigma_x,
-                all.doppler_sigma_y, all.doppler_sigma_yaw, all.match_covariance_scale, all.match_sigma_x, all.match_sigma_y, all.match_sigma_yaw);
-  md << b << "| left out | Doppler NEES | match NEES | cycles | matches | 1m % (defaults → left-out calibration) | deg/m | ATE m |\n"
+  std::snprintf(b, sizeof b,
+                "calibrated on all %zu scenes (%s): Doppler σ %.4f m/s, %.4f m/s, %.5f rad/s; match covariance x %.3f; "
+                "match σ %.4f m, %.4f m, %.5f rad\n\n",
+                scenes.size(), toString(options.matcher.method), all.doppler_sigma_x, all.doppler_sigma_y,
+                all.doppler_sigma_yaw, all.match_covariance_scale, all.match_sigma_x, all.match_sigma_y,
+                all.match_sigma_yaw);
+  md << b
+     << "| left out | Doppler NEES | match NEES | cycles | matches | 1m % (defaults → left-out calibration) | deg/m | "
+        "ATE m |\n"
      << "|---|---|---|---|---|---|---|---|\n";
   for (std::size_t i = 0; i < per_scene.size(); ++i) {
     const MotionNoiseCalibration c = calibrateMotionNoise(all_but(i));
     const MotionNees nees = motionNees(per_scene[i], c.applyTo(options.odometry.fusion));
     // The scene run again with the covariances calibrated without it, against the defaults' run.
-    const EvaluationReport before = evaluate(associate(runs[i].ground_truth, runs[i].estimate), {Metric::OneMeter, Metric::Ate});
+    const EvaluationReport before =
+        evaluate(associate(runs[i].ground_truth, runs[i].estimate), {Metric::OneMeter, Metric::Ate});
     AutomotiveRunOptions o = options;
     o.odometry.fusion = c.applyTo(options.odometry.fusion);
     const AutomotiveRunResult rerun = runAutomotiveOdometry(dataset, *scenes[i], o);
-    const EvaluationReport after = evaluate(associate(rerun.ground_truth, rerun.estimate), {Metric::OneMeter, Metric::Ate});
-    std::snprintf(b, sizeof b, "| %s | %.2f | %.2f | %zu | %zu | %.3f → %.3f | %.4f → %.4f | %.3f → %.3f |\n", scenes[i]->name.c_str(),
-                  nees.doppler, nees.match, nees.doppler_samples, nees.match_samples, before.one_meter->trans_err_pct,
-                  after.one_meter->trans_err_pct, before.one_meter->rot_err_deg_per_m, after.one_meter->rot_err_deg_per_m, before.ate->rmse_m,
-                  after.ate->rmse_m);
+    const EvaluationReport after =
+        evaluate(associate(rerun.ground_truth, rerun.estimate), {Metric::OneMeter, Metric::Ate});
+    std::snprintf(b, sizeof b, "| %s | %.2f | %.2f | %zu | %zu | %.3f → %.3f | %.4f → %.4f | %.3f → %.3f |\n",
+                  scenes[i]->name.c_str(), nees.doppler, nees.match, nees.doppler_samples, nees.match_samples,
+                  before.one_meter->trans_err_pct, after.one_meter->trans_err_pct, before.one_meter->rot_err_deg_per_m,
+                  after.one_meter->rot_err_deg_per_m, before.ate->rmse_m, after.ate->rmse_m);
     md << b;
-    out["leave_one_out"].push_back({{"scene", scenes[i]->name}, {"calibration", cal_json(c)}, {"doppler_nees", nees.doppler},
-                                    {"match_nees", nees.match}, {"doppler_samples", nees.doppler_samples}, {"match_samples", nees.match_samples},
-                                    {"defaults", {{"trans_err_pct", before.one_meter->trans_err_pct}, {"rot_err_deg_per_m", before.one_meter->rot_err_deg_per_m}, {"ate_m", before.ate->rmse_m}}},
-                                    {"left_out_calibration", {{"trans_err_pct", after.one_meter->trans_err_pct}, {"rot_err_deg_per_m", after.one_meter->rot_err_deg_per_m}, {"ate_m", after.ate->rmse_m}}}});
+    out["leave_one_out"].push_back({{"scene", scenes[i]->name},
+                                    {"calibration", cal_json(c)},
+                                    {"doppler_nees", nees.doppler},
+                                    {"match_nees", nees.match},
+                                    {"doppler_samples", nees.doppler_samples},
+                                    {"match_samples", nees.match_samples},
+                                    {"defaults",
+                                     {{"trans_err_pct", before.one_meter->trans_err_pct},
+                                      {"rot_err_deg_per_m", before.one_meter->rot_err_deg_per_m},
+                                      {"ate_m", before.ate->rmse_m}}},
+                                    {"left_out_calibration",
+                                     {{"trans_err_pct", after.one_meter->trans_err_pct},
+                                      {"rot_err_deg_per_m", after.one_meter->rot_err_deg_per_m},
+                                      {"ate_m", after.ate->rmse_m}}}});
   }
   // What the match adds to the Doppler motion per axis, with the best fixed weight the ground truth
   // itself would choose per scene (an upper bound for any linear fusion of the two).
-  md << "\nwhat the match adds (oracle: the best fixed weight on match − Doppler, chosen with the ground truth per scene)\n\n"
-     << "| scene | axis | Doppler RMS | match RMS | correlation | oracle weight | oracle RMS | gain |\n|---|---|---|---|---|---|---|---|\n";
+  md << "\nwhat the match adds (oracle: the best fixed weight on match − Doppler, chosen with the ground truth per "
+        "scene)\n\n"
+     << "| scene | axis | Doppler RMS | match RMS | correlation | oracle weight | oracle RMS | gain "
+        "|\n|---|---|---|---|---|---|---|---|\n";
   out["match_information"] = json::array();
   for (std::size_t i = 0; i < per_scene.size(); ++i) {
     const MatchInformation info = matchInformation(per_scene[i]);
@@ -326,12 +377,15 @@ int runNoiseCalibration(const AutomotiveRunOptions& options, const NuScenesDatas
     json axes = json::array();
     for (int a = 0; a < 3; ++a) {
       const MatchInformationAxis& x = info.axis[a];
-      std::snprintf(b, sizeof b, "| %s | %s | %.2f | %.2f | %.2f | %.3f | %.2f | %.1f %% |\n", scenes[i]->name.c_str(), names[a],
-                    1e3 * x.doppler_rms, 1e3 * x.match_rms, x.correlation, x.oracle_weight, 1e3 * x.oracle_rms,
-                    100.0 * (x.oracle_rms / x.doppler_rms - 1.0));
+      std::snprintf(b, sizeof b, "| %s | %s | %.2f | %.2f | %.2f | %.3f | %.2f | %.1f %% |\n", scenes[i]->name.c_str(),
+                    names[a], 1e3 * x.doppler_rms, 1e3 * x.match_rms, x.correlation, x.oracle_weight,
+                    1e3 * x.oracle_rms, 100.0 * (x.oracle_rms / x.doppler_rms - 1.0));
       md << b;
-      axes.push_back({{"doppler_rms", x.doppler_rms}, {"match_rms", x.match_rms}, {"correlation", x.correlation},
-                      {"oracle_weight", x.oracle_weight}, {"oracle_rms", x.oracle_rms}});
+      axes.push_back({{"doppler_rms", x.doppler_rms},
+                      {"match_rms", x.match_rms},
+                      {"correlation", x.correlation},
+                      {"oracle_weight", x.oracle_weight},
+                      {"oracle_rms", x.oracle_rms}});
     }
     out["match_information"].push_back({{"scene", scenes[i]->name}, {"samples", info.samples}, {"x_y_yaw", axes}});
   }
@@ -351,20 +405,28 @@ int main(int argc, char** argv) {
   // clang-format off
   opts.add_options()
     ("json", po::bool_switch(), "print the table as JSON")
-    ("noise-calibration", po::bool_switch(), "nuscenes: instead of the table, calibrate the fusion's covariances on every scene with "
-                                             "--method (default ours) and check them leaving each scene out (mean NEES); then, per scene and axis, "
-                                             "what the match adds to the Doppler motion (errors' RMS and correlation, the best "
-                                             "fixed fusion weight the ground truth would choose)")
-    ("sweep-scans", po::value<std::size_t>()->default_value(400), "oxford: scans of the first sequence the PCL grid sweep is scored on "
-                                                                  "(--max-cycles caps every other run)");
+    ("noise-calibration", po::bool_switch(),
+     "nuscenes: instead of the table, calibrate the fusion's covariances on every scene with "
+     "--method (default ours) and check them leaving each scene out (mean NEES); then, per scene and axis, "
+     "what the match adds to the Doppler motion (errors' RMS and correlation, the best "
+     "fixed fusion weight the ground truth would choose)")
+    ("sweep-scans", po::value<std::size_t>()->default_value(400),
+     "oxford: scans of the first sequence the PCL grid sweep is scored on "
+     "(--max-cycles caps every other run)");
   // clang-format on
   const std::string usage =
-      "Usage: radar_paper_tables --format nuscenes --dataroot DIR [--scene NAME|all] [--noise-calibration] [pipeline options] [--json]\n"
-      "       radar_paper_tables --format oxford --sequence DIR... [--max-cycles N] [--sweep-scans N] [pipeline options] [--json]\n"
-      "nuscenes: the paper's nuScenes table on every scene: N = 1, 3, 5, 10 for pcl-icp and pw-ndt, N = 1 for doppler and\n"
-      "rapp-ndt, in the paper's mode (submap to submap); then the four through the default pipeline; 1m metric, mean over\n"
-      "scenes. --noise-calibration: the fusion's covariances calibrated with --method on every scene and checked leaving each\n"
-      "scene out. oxford: on every --sequence (with ground truth), ours vs PCL's NDT and ICP (documented settings and the best\n"
+      "Usage: radar_paper_tables --format nuscenes --dataroot DIR [--scene NAME|all] [--noise-calibration] [pipeline "
+      "options] [--json]\n"
+      "       radar_paper_tables --format oxford --sequence DIR... [--max-cycles N] [--sweep-scans N] [pipeline "
+      "options] [--json]\n"
+      "nuscenes: the paper's nuScenes table on every scene: N = 1, 3, 5, 10 for pcl-icp and pw-ndt, N = 1 for doppler "
+      "and\n"
+      "rapp-ndt, in the paper's mode (submap to submap); then the four through the default pipeline; 1m metric, mean "
+      "over\n"
+      "scenes. --noise-calibration: the fusion's covariances calibrated with --method on every scene and checked "
+      "leaving each\n"
+      "scene out. oxford: on every --sequence (with ground truth), ours vs PCL's NDT and ICP (documented settings and "
+      "the best\n"
       "of a grid sweep) and the paper's ablations; KITTI metric. --method is ignored but by --noise-calibration.";
   po::variables_map vm;
   const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
@@ -378,7 +440,8 @@ int main(int argc, char** argv) {
                               vm["sweep-scans"].as<std::size_t>(), json_out, progress_on);
     const AutomotiveRunOptions options = apps::automotiveOptions(vm);
     const NuScenesDataset dataset = apps::openDataset(vm);
-    if (vm["noise-calibration"].as<bool>()) return runNoiseCalibration(options, dataset, apps::selectScenes(dataset, vm), json_out, progress_on);
+    if (vm["noise-calibration"].as<bool>())
+      return runNoiseCalibration(options, dataset, apps::selectScenes(dataset, vm), json_out, progress_on);
     return runNuScenesTable(options, dataset, apps::selectScenes(dataset, vm), json_out, progress_on);
   });
 }

@@ -11,10 +11,10 @@
 #include <sstream>
 
 #include "app_common.h"
-#include "radar_ndt/io/polar_scan.h"
-#include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/evaluation/scan_statistics.h"
 #include "radar_ndt/frontend/power_threshold.h"
+#include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/pipeline/scanning_sequence.h"
 #include "radar_ndt/sim/radar_sim.h"
 
@@ -33,7 +33,8 @@ struct Setting {
 
 template <typename T>
 Setting setting(const char* group, T& field, const char* help) {
-  return {group, [&field](double v) { field = static_cast<T>(v); }, [&field] { return static_cast<double>(field); }, help};
+  return {group, [&field](double v) { field = static_cast<T>(v); }, [&field] { return static_cast<double>(field); },
+          help};
 }
 
 /// Every simulator setting by name (`--set name=value`), with its documentation.
@@ -41,9 +42,11 @@ std::map<std::string, Setting> settings(sim::WorldOptions& w, sim::ScanningOptio
   std::map<std::string, Setting> m;
   m["road_half_width_min"] = setting("world", w.road_half_width_min, "m, kerb to the path's centre line (min)");
   m["road_half_width_max"] = setting("world", w.road_half_width_max, "m, kerb to the path's centre line (max)");
-  m["building_probability"] = setting("world", w.building_probability, "per side and 30 m block: a facade, else open land");
+  m["building_probability"] =
+      setting("world", w.building_probability, "per side and 30 m block: a facade, else open land");
   m["facade_gap_probability"] = setting("world", w.facade_gap_probability, "per 3–9 m facade piece: a gap");
-  m["open_land_objects"] = setting("world", w.open_land_objects, "per side and open 30 m block: mean scattered buildings, bushes, cars");
+  m["open_land_objects"] =
+      setting("world", w.open_land_objects, "per side and open 30 m block: mean scattered buildings, bushes, cars");
   m["parked_car_probability"] = setting("world", w.parked_car_probability, "per 6 m kerb slot");
   m["pole_spacing"] = setting("world", w.pole_spacing, "m, mean spacing of lamp posts and signs");
   m["tree_probability"] = setting("world", w.tree_probability, "per 12 m slot: a street tree (trunk and crown)");
@@ -51,8 +54,10 @@ std::map<std::string, Setting> settings(sim::WorldOptions& w, sim::ScanningOptio
   m["hedge_probability"] = setting("world", w.hedge_probability, "per open block without a fence: a hedge");
   m["movers_per_km"] = setting("world", w.movers_per_km, "moving cars and buses per km of path");
   m["bus_share"] = setting("world", w.bus_share, "share of movers that are buses");
-  m["mirror"] = setting("world", w.mirror, "1: the seed's world mirrored across the path (same draws; exact on a straight path)");
-  m["back_rows"] = setting("world", w.back_rows, "per side: rows of building walls behind the street's facades (0: none)");
+  m["mirror"] =
+      setting("world", w.mirror, "1: the seed's world mirrored across the path (same draws; exact on a straight path)");
+  m["back_rows"] =
+      setting("world", w.back_rows, "per side: rows of building walls behind the street's facades (0: none)");
   m["back_row_spacing"] = setting("world", w.back_row_spacing, "m between those rows (±30 %)");
   m["back_row_gap_probability"] = setting("world", w.back_row_gap_probability, "per 5–20 m piece of a back row: a gap");
   m["azimuths"] = setting("scanning", s.azimuths, "azimuths a sweep");
@@ -62,38 +67,58 @@ std::map<std::string, Setting> settings(sim::WorldOptions& w, sim::ScanningOptio
   m["beam_width_deg"] = setting("scanning", s.beam_width_deg, "deg, −3 dB beam width (smearing across azimuths)");
   m["beam_rays"] = setting("scanning", s.beam_rays, "sub-rays cast across ±0.9 beam widths");
   m["range_psf_sigma"] = setting("scanning", s.range_psf_sigma, "m, σ of the range response's main lobe");
-  m["range_sidelobe_db"] = setting("scanning", s.range_sidelobe_db, "dB, range sidelobes relative to each bin of a return");
+  m["range_sidelobe_db"] =
+      setting("scanning", s.range_sidelobe_db, "dB, range sidelobes relative to each bin of a return");
   m["range_sidelobe_length"] = setting("scanning", s.range_sidelobe_length, "m, exponential decay of the sidelobes");
-  m["range_loss_db_per_decade"] = setting("scanning", s.range_loss_db_per_decade, "dB power fall per decade of range beyond 10 m");
-  m["target_snr_db"] = setting("scanning", s.target_snr_db, "dB over the noise mean of a facade at 10 m, normal incidence");
+  m["range_loss_db_per_decade"] =
+      setting("scanning", s.range_loss_db_per_decade, "dB power fall per decade of range beyond 10 m");
+  m["target_snr_db"] =
+      setting("scanning", s.target_snr_db, "dB over the noise mean of a facade at 10 m, normal incidence");
   m["noise_rise_db"] = setting("scanning", s.noise_rise_db, "dB the noise mean grows from 0 m to max_range");
   m["display_db_range"] = setting("scanning", s.display_db_range, "dB spanned by pixel values 0..255");
   m["noise_display_level"] = setting("scanning", s.noise_display_level, "0..1 pixel value of the noise mean at 0 m");
-  m["display_knee_db"] = setting("scanning", s.display_knee_db, "dB over the noise mean above which display_compression applies");
-  m["display_compression"] = setting("scanning", s.display_compression, "slope of the display above the knee (1: none; 0.35 matches RADIATE's thresholded powers)");
+  m["display_knee_db"] =
+      setting("scanning", s.display_knee_db, "dB over the noise mean above which display_compression applies");
+  m["display_compression"] =
+      setting("scanning", s.display_compression,
+              "slope of the display above the knee (1: none; 0.35 matches RADIATE's thresholded powers)");
   m["speckle_looks"] = setting("scanning", s.speckle_looks, "gamma shape of target fluctuation (1: Rayleigh)");
-  m["ghost_probability"] = setting("scanning", s.ghost_probability, "share of facades and vehicle sides that mirror (multipath ghosts)");
-  m["ghost_attenuation_db"] = setting("scanning", s.ghost_attenuation_db, "dB a ghost is below the direct return of what it shows");
+  m["ghost_probability"] =
+      setting("scanning", s.ghost_probability, "share of facades and vehicle sides that mirror (multipath ghosts)");
+  m["ghost_attenuation_db"] =
+      setting("scanning", s.ghost_attenuation_db, "dB a ghost is below the direct return of what it shows");
   m["saturation_probability"] = setting("scanning", s.saturation_probability, "per azimuth: a saturated bright line");
   m["saturation_db"] = setting("scanning", s.saturation_db, "dB over the noise of a saturated line");
   m["leakage_db"] = setting("scanning", s.leakage_db, "dB over the noise of the near-range leakage (first ~1.5 m)");
-  m["ground_clutter_db"] = setting("scanning", s.ground_clutter_db, "dB over the noise at 10 m of a cluttered 1 m ground cell (Rayleigh)");
-  m["ground_clutter_cover"] = setting("scanning", s.ground_clutter_cover, "share of 1 m ground cells with clutter (grass, kerbs, gravel)");
+  m["ground_clutter_db"] =
+      setting("scanning", s.ground_clutter_db, "dB over the noise at 10 m of a cluttered 1 m ground cell (Rayleigh)");
+  m["ground_clutter_cover"] =
+      setting("scanning", s.ground_clutter_cover, "share of 1 m ground cells with clutter (grass, kerbs, gravel)");
   m["max_range"] = setting("scanning", s.max_range, "m rendered (beyond: noise only)");
   m["range_offset_bins"] = setting("scanning", s.range_offset_bins, "bin b lies at (b + offset) · range_resolution");
-  m["display_counts"] = setting("scanning", s.display_counts, "1: Navtech's counts, n = ⌊P⌋ stored as ⌊20·log10 n + 0.12⌋ (0.5 dB a value); 0: the display above");
+  m["display_counts"] =
+      setting("scanning", s.display_counts,
+              "1: Navtech's counts, n = ⌊P⌋ stored as ⌊20·log10 n + 0.12⌋ (0.5 dB a value); 0: the display above");
   m["noise_counts"] = setting("scanning", s.noise_counts, "mean noise power in counts (display_counts)");
   m["leakage_length"] = setting("scanning", s.leakage_length, "m, exponential decay of the near-range leakage");
-  m["azimuth_sidelobe_db"] = setting("scanning", s.azimuth_sidelobe_db, "dB, antenna sidelobes in azimuth relative to the main lobe (−200: none)");
-  m["azimuth_sidelobe_width_deg"] = setting("scanning", s.azimuth_sidelobe_width_deg, "deg, exponential fall of the azimuth sidelobes");
-  m["range_pedestal_db"] = setting("scanning", s.range_pedestal_db, "dB below a return of its long range tail, the radial streaks (−200: none)");
+  m["azimuth_sidelobe_db"] = setting("scanning", s.azimuth_sidelobe_db,
+                                     "dB, antenna sidelobes in azimuth relative to the main lobe (−200: none)");
+  m["azimuth_sidelobe_width_deg"] =
+      setting("scanning", s.azimuth_sidelobe_width_deg, "deg, exponential fall of the azimuth sidelobes");
+  m["range_pedestal_db"] = setting("scanning", s.range_pedestal_db,
+                                   "dB below a return of its long range tail, the radial streaks (−200: none)");
   m["scatterer_density"] = setting("scanning", s.scatterer_density, "point scatterers off the road a m² (0: none)");
-  m["scatterer_db"] = setting("scanning", s.scatterer_db, "dB, mean scatterer strength relative to a facade at the same range");
-  m["scatterer_sigma_db"] = setting("scanning", s.scatterer_sigma_db, "dB, log-normal spread of the scatterer strengths");
+  m["scatterer_db"] =
+      setting("scanning", s.scatterer_db, "dB, mean scatterer strength relative to a facade at the same range");
+  m["scatterer_sigma_db"] =
+      setting("scanning", s.scatterer_sigma_db, "dB, log-normal spread of the scatterer strengths");
   m["scatterer_clearance"] = setting("scanning", s.scatterer_clearance, "m, no scatterer closer than this to the path");
   m["depth_scale"] = setting("scanning", s.depth_scale, "scales every material's return depth");
-  m["range_pedestal_length"] = setting("scanning", s.range_pedestal_length, "m, exponential decay of the range pedestal");
-  m["over_occluder_db"] = setting("scanning", s.over_occluder_db, "dB: what lies behind the first opaque surface returns this much weaker (−200: hidden)");
+  m["range_pedestal_length"] =
+      setting("scanning", s.range_pedestal_length, "m, exponential decay of the range pedestal");
+  m["over_occluder_db"] =
+      setting("scanning", s.over_occluder_db,
+              "dB: what lies behind the first opaque surface returns this much weaker (−200: hidden)");
   m["period"] = setting("automotive", a.period, "s between sweeps of one radar (13 Hz)");
   m["jitter"] = setting("automotive", a.jitter, "s, uniform timing jitter of each sweep");
   m["near_fov_deg"] = setting("automotive", a.near_fov_deg, "deg, ± azimuth of the near scan");
@@ -101,15 +126,18 @@ std::map<std::string, Setting> settings(sim::WorldOptions& w, sim::ScanningOptio
   m["far_fov_deg"] = setting("automotive", a.far_fov_deg, "deg, ± azimuth of the far scan");
   m["far_range"] = setting("automotive", a.far_range, "m, reach of the far scan");
   m["ray_step_deg"] = setting("automotive", a.ray_step_deg, "deg between cast rays");
-  m["detection_probability"] = setting("automotive", a.detection_probability, "per surface return, scaled by the material's RCS");
-  m["cluster_distance"] = setting("automotive", a.cluster_distance, "m: returns closer than this merge into one detection");
+  m["detection_probability"] =
+      setting("automotive", a.detection_probability, "per surface return, scaled by the material's RCS");
+  m["cluster_distance"] =
+      setting("automotive", a.cluster_distance, "m: returns closer than this merge into one detection");
   m["max_detections"] = setting("automotive", a.max_detections, "detections a sweep (strongest kept)");
   m["clutter_per_sweep"] = setting("automotive", a.clutter_per_sweep, "mean false detections a sweep (random Doppler)");
   m["range_sigma"] = setting("automotive", a.range_sigma, "m, range noise (doubled in the far scan)");
   m["azimuth_sigma_deg"] = setting("automotive", a.azimuth_sigma_deg, "deg, azimuth noise at boresight (×2 at ±60°)");
   m["rcs_sigma_db"] = setting("automotive", a.rcs_sigma_db, "dB, RCS noise");
   m["doppler_sigma"] = setting("automotive", a.doppler_sigma, "m/s, Doppler noise");
-  m["automotive_ghost_probability"] = setting("automotive", a.ghost_probability, "per detection on a vehicle: a multipath ghost");
+  m["automotive_ghost_probability"] =
+      setting("automotive", a.ghost_probability, "per detection on a vehicle: a multipath ghost");
   return m;
 }
 
@@ -133,7 +161,8 @@ std::vector<PolarScan> readRealScans(const std::string& dir, std::string& layout
     for (const auto& f : files) scans.push_back(readRadiatePolarPng(f));
   }
   if (scans.empty())
-    throw std::invalid_argument("--realism: no scans in '" + dir + "' (an Oxford sequence with radar.timestamps, or RADIATE's Navtech_Polar/)");
+    throw std::invalid_argument("--realism: no scans in '" + dir +
+                                "' (an Oxford sequence with radar.timestamps, or RADIATE's Navtech_Polar/)");
   return scans;
 }
 
@@ -158,28 +187,39 @@ int main(int argc, char** argv) {
   // clang-format off
   opts.add_options()
     ("help,h", "print this help and exit")
-    ("type", po::value(&type)->default_value("scanning"), "scanning (Oxford Radar RobotCar layout) | automotive (nuScenes layout)")
-    ("trajectory", po::value(&trajectory_path), "ego trajectory, KITTI or TUM (e.g. ../shared/data/oxford-radar-gt/*.txt); default: a built-in 2-minute city drive")
+    ("type", po::value(&type)->default_value("scanning"),
+     "scanning (Oxford Radar RobotCar layout) | automotive (nuScenes layout)")
+    ("trajectory", po::value(&trajectory_path),
+     "ego trajectory, KITTI or TUM (e.g. ../shared/data/oxford-radar-gt/*.txt); default: a built-in 2-minute city "
+     "drive")
     ("period", po::value(&period)->default_value(0.25), "s between poses of a trajectory without timestamps (KITTI)")
     ("out", po::value(&out), "output directory (created)")
-    ("frames", po::value(&frames)->default_value(0), "scans (scanning) or front-radar sweeps (automotive) to write; 0: the whole trajectory")
+    ("frames", po::value(&frames)->default_value(0),
+     "scans (scanning) or front-radar sweeps (automotive) to write; 0: the whole trajectory")
     ("start", po::value(&start)->default_value(0), "first trajectory pose used")
     ("seed", po::value(&seed)->default_value(1), "world and noise seed: the same seed gives the same files")
-    ("profile", po::value(&profile_name), "scanning sensor profile: oxford (the CTS350-X as the Oxford dataset recorded it; default) | "
-                                          "radiate (the earlier calibration to RADIATE's scans); --realism: the real layout's by default")
+    ("profile", po::value(&profile_name),
+     "scanning sensor profile: oxford (the CTS350-X as the Oxford dataset recorded it; default) | "
+     "radiate (the earlier calibration to RADIATE's scans); --realism: the real layout's by default")
     ("compression", po::value(&compression)->default_value(1), "zlib level of the scan PNGs (1 fast … 9 small)")
-    ("set", po::value(&sets)->composing(), "override a simulator setting: --set name=value (repeatable; see --list-settings)")
+    ("set", po::value(&sets)->composing(),
+     "override a simulator setting: --set name=value (repeatable; see --list-settings)")
     ("list-settings", po::bool_switch(&list), "print every simulator setting with its value and meaning, then exit")
-    ("realism", po::value(&realism_dir), "compare: the real scans of this Oxford or RADIATE sequence against --frames (default 10) "
-                                         "simulated ones in the same layout (spread over the trajectory from --start); per range band "
-                                         "the share of polar bins above 0.2, 0.333, 0.5 and power percentiles, and the front-end's points")
-    ("realism-png", po::value(&realism_png), "with --realism: write the first real scan (left) and a simulated one (right), Cartesian, as one PNG")
-    ("realism-view", po::value(&view_range)->default_value(62.5), "with --realism-png: show ±this many metres around the sensor")
+    ("realism", po::value(&realism_dir),
+     "compare: the real scans of this Oxford or RADIATE sequence against --frames (default 10) "
+     "simulated ones in the same layout (spread over the trajectory from --start); per range band "
+     "the share of polar bins above 0.2, 0.333, 0.5 and power percentiles, and the front-end's points")
+    ("realism-png", po::value(&realism_png),
+     "with --realism: write the first real scan (left) and a simulated one (right), Cartesian, as one PNG")
+    ("realism-view", po::value(&view_range)->default_value(62.5),
+     "with --realism-png: show ±this many metres around the sensor")
     ("quiet,q", po::bool_switch(&quiet), "no progress line");
   // clang-format on
   const std::string usage =
-      "Usage: radar_sim --type scanning|automotive [--trajectory GT.txt] --out DIR [--frames N] [--seed S] [--start K]\n"
-      "       radar_sim --realism OXFORD_OR_RADIATE_DIR [--profile P] [--trajectory GT.txt] [--frames N] [--realism-png out.png]\n"
+      "Usage: radar_sim --type scanning|automotive [--trajectory GT.txt] --out DIR [--frames N] [--seed S] [--start "
+      "K]\n"
+      "       radar_sim --realism OXFORD_OR_RADIATE_DIR [--profile P] [--trajectory GT.txt] [--frames N] "
+      "[--realism-png out.png]\n"
       "Scanning: DIR/radar/<stamp>.png, DIR/radar.timestamps, DIR/gt/radar_odometry.csv (Oxford conventions)\n"
       "and DIR/gt/poses.txt (KITTI, first pose identity). Automotive: a nuScenes dataroot, tables in\n"
       "DIR/v1.0-sim, five ARS408 radars at nuScenes' mountings. Settings: --list-settings, docs/simulator.md.";
@@ -193,10 +233,11 @@ int main(int argc, char** argv) {
     sim::AutomotiveOptions automotive;
     // --realism: the real scans first, so the profile can default to their layout's.
     std::string layout;
-    const std::vector<PolarScan> real_scans = realism_dir.empty() ? std::vector<PolarScan>{} : readRealScans(realism_dir, layout);
+    const std::vector<PolarScan> real_scans =
+        realism_dir.empty() ? std::vector<PolarScan>{} : readRealScans(realism_dir, layout);
     const sim::ScanningProfile profile = !profile_name.empty() ? sim::parseScanningProfile(profile_name)
-                                         : layout == "RADIATE"  ? sim::ScanningProfile::Radiate
-                                                                : sim::ScanningProfile::Oxford;
+                                         : layout == "RADIATE" ? sim::ScanningProfile::Radiate
+                                                               : sim::ScanningProfile::Oxford;
     // The profile (sensor and world) for scanning output and --realism; the automotive output keeps
     // WorldOptions' default world.
     if (type == "scanning" || !realism_dir.empty()) sim::applyProfile(profile, world, scanning);
@@ -205,7 +246,8 @@ int main(int argc, char** argv) {
       const auto eq = s.find('=');
       if (eq == std::string::npos) throw std::invalid_argument("--set '" + s + "': expected name=value");
       const auto it = table.find(s.substr(0, eq));
-      if (it == table.end()) throw std::invalid_argument("--set: unknown setting '" + s.substr(0, eq) + "' (see --list-settings)");
+      if (it == table.end())
+        throw std::invalid_argument("--set: unknown setting '" + s.substr(0, eq) + "' (see --list-settings)");
       std::size_t used = 0;
       double v = 0;
       try {
@@ -227,7 +269,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     world.seed = seed;
-    if (type != "scanning" && type != "automotive") throw std::invalid_argument("--type must be scanning or automotive, not '" + type + "'");
+    if (type != "scanning" && type != "automotive")
+      throw std::invalid_argument("--type must be scanning or automotive, not '" + type + "'");
 
     const bool builtin = trajectory_path.empty();
     const sim::SimTrajectory ego =
@@ -264,44 +307,61 @@ int main(int argc, char** argv) {
       }
       const StatisticsSummary r = summarize(real), m = summarize(simulated);
       const RealismCheck check = compareRealism(m.median, r.median, stat_options);
-      std::printf("Realism: %zu real %s scans (%s) against %zu simulated (profile %s, %s from pose %zu, seed %llu),\n"
-                  "both %d azimuths x %d bins of %.4f m; median over scans [scan-to-scan min..max]; power = byte/255\n\n",
-                  r.scans, layout.c_str(), realism_dir.c_str(), m.scans, sim::toString(profile), source.c_str(), first,
-                  static_cast<unsigned long long>(seed), ref.azimuths, ref.bins, ref.range_resolution);
+      std::printf(
+          "Realism: %zu real %s scans (%s) against %zu simulated (profile %s, %s from pose %zu, seed %llu),\n"
+          "both %d azimuths x %d bins of %.4f m; median over scans [scan-to-scan min..max]; power = byte/255\n\n",
+          r.scans, layout.c_str(), realism_dir.c_str(), m.scans, sim::toString(profile), source.c_str(), first,
+          static_cast<unsigned long long>(seed), ref.azimuths, ref.bins, ref.range_resolution);
       std::printf("| band | statistic | real | simulated | within |\n|---|---|---|---|---|\n");
       std::size_t field = 0;  // into check.within, in its order
-      auto frac = [](double x) { char b[32]; std::snprintf(b, sizeof b, "%.4f", x); return std::string(b); };
-      auto pct = [](double x) { char b[32]; std::snprintf(b, sizeof b, "%.3f (%d)", x, static_cast<int>(std::lround(255 * x))); return std::string(b); };
+      auto frac = [](double x) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.4f", x);
+        return std::string(b);
+      };
+      auto pct = [](double x) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.3f (%d)", x, static_cast<int>(std::lround(255 * x)));
+        return std::string(b);
+      };
       for (std::size_t i = 0; i < stat_options.bands.size(); ++i) {
         const auto &rb = r.median.bands[i], &mb = m.median.bands[i];
         char band[32];
         std::snprintf(band, sizeof band, "%g-%g m", rb.band.lo, rb.band.hi);
         for (std::size_t j = 0; j < stat_options.levels.size(); ++j) {
           const bool ok = check.within[field++];
-          std::printf("| %s | above %g | %s [%s..%s] | %s [%s..%s] | %s |\n", band, stat_options.levels[j], frac(rb.above[j]).c_str(),
-                      frac(r.min.bands[i].above[j]).c_str(), frac(r.max.bands[i].above[j]).c_str(), frac(mb.above[j]).c_str(),
+          std::printf("| %s | above %g | %s [%s..%s] | %s [%s..%s] | %s |\n", band, stat_options.levels[j],
+                      frac(rb.above[j]).c_str(), frac(r.min.bands[i].above[j]).c_str(),
+                      frac(r.max.bands[i].above[j]).c_str(), frac(mb.above[j]).c_str(),
                       frac(m.min.bands[i].above[j]).c_str(), frac(m.max.bands[i].above[j]).c_str(), ok ? "yes" : "NO");
         }
         for (std::size_t j = 0; j < stat_options.percentiles.size(); ++j) {
           const bool ok = check.within[field++];
-          std::printf("| %s | p%g | %s [%s..%s] | %s [%s..%s] | %s |\n", band, stat_options.percentiles[j], pct(rb.percentile[j]).c_str(),
-                      pct(r.min.bands[i].percentile[j]).c_str(), pct(r.max.bands[i].percentile[j]).c_str(), pct(mb.percentile[j]).c_str(),
-                      pct(m.min.bands[i].percentile[j]).c_str(), pct(m.max.bands[i].percentile[j]).c_str(), ok ? "yes" : "NO");
+          std::printf("| %s | p%g | %s [%s..%s] | %s [%s..%s] | %s |\n", band, stat_options.percentiles[j],
+                      pct(rb.percentile[j]).c_str(), pct(r.min.bands[i].percentile[j]).c_str(),
+                      pct(r.max.bands[i].percentile[j]).c_str(), pct(mb.percentile[j]).c_str(),
+                      pct(m.min.bands[i].percentile[j]).c_str(), pct(m.max.bands[i].percentile[j]).c_str(),
+                      ok ? "yes" : "NO");
         }
       }
       const bool points_ok = check.within[field];
-      std::printf("| 2-62.5 m | thresholded points per scan | %zu [%zu..%zu] | %zu [%zu..%zu] | %s |\n", r.median.points, r.min.points,
-                  r.max.points, m.median.points, m.min.points, m.max.points, points_ok ? "yes" : "NO");
-      std::printf("\n%zu of %zu within the tolerances (fractions ±25 %% or ±0.002, percentiles ±3/255, points ±25 %%); "
-                  "error %.1f (the sum over the fields of (difference / tolerance)², each capped at 25)\n",
-                  check.fields - check.failures.size(), check.fields, check.error);
+      std::printf("| 2-62.5 m | thresholded points per scan | %zu [%zu..%zu] | %zu [%zu..%zu] | %s |\n",
+                  r.median.points, r.min.points, r.max.points, m.median.points, m.min.points, m.max.points,
+                  points_ok ? "yes" : "NO");
+      std::printf(
+          "\n%zu of %zu within the tolerances (fractions ±25 %% or ±0.002, percentiles ±3/255, points ±25 %%); "
+          "error %.1f (the sum over the fields of (difference / tolerance)², each capped at 25)\n",
+          check.fields - check.failures.size(), check.fields, check.error);
       // The front-end's view: its Cartesian image (0.125 m/px, 2–62.5 m) and what the power shift
       // weighs, p − thres over the pixels above the threshold (medians over scans).
       const PowerStatistics ri = medianStatistics(real_image), si = medianStatistics(simulated_image);
-      std::printf("\nThe front-end's Cartesian image (%.3f m/px, %.1f-%.1f m), medians over scans:\n\n"
-                  "| statistic | real | simulated | ratio |\n|---|---|---|---|\n",
-                  front.options().cartesian_resolution, front.options().min_range, front.options().max_range);
-      auto irow = [](const char* name, double a, double b) { std::printf("| %s | %.4f | %.4f | %.2f |\n", name, a, b, a != 0 ? b / a : 0.0); };
+      std::printf(
+          "\nThe front-end's Cartesian image (%.3f m/px, %.1f-%.1f m), medians over scans:\n\n"
+          "| statistic | real | simulated | ratio |\n|---|---|---|---|\n",
+          front.options().cartesian_resolution, front.options().min_range, front.options().max_range);
+      auto irow = [](const char* name, double a, double b) {
+        std::printf("| %s | %.4f | %.4f | %.2f |\n", name, a, b, a != 0 ? b / a : 0.0);
+      };
       irow("pixels above the threshold", ri.fraction_above, si.fraction_above);
       irow("pixel power p50", ri.p50, si.p50);
       irow("pixel power p90", ri.p90, si.p90);
@@ -324,8 +384,9 @@ int main(int argc, char** argv) {
           std::copy_n(&pb[src], size, &px[static_cast<std::size_t>(y) * width + size + gap]);
         }
         writePng(realism_png, width, size, 1, px.data(), 9);
-        std::printf("\nwrote %s: the first real %s scan (left), a simulated one (right), Cartesian %.3f m/px, front up\n",
-                    realism_png.c_str(), layout.c_str(), a.resolution);
+        std::printf(
+            "\nwrote %s: the first real %s scan (left), a simulated one (right), Cartesian %.3f m/px, front up\n",
+            realism_png.c_str(), layout.c_str(), a.resolution);
       }
       return 0;
     }
@@ -341,8 +402,8 @@ int main(int argc, char** argv) {
                                              : sim::writeAutomotiveSequence(out, ego, world, automotive, seq);
     std::printf("radar_sim: %s, %zu %s over %.1f s and %.2f km along %s, seed %llu -> %s (%.1f s, %.1f frames/s)\n",
                 type.c_str(), summary.frames, type == "scanning" ? "scans" : "front-radar sweeps", summary.duration,
-                summary.distance / 1000.0, source.c_str(), static_cast<unsigned long long>(seed), out.c_str(), summary.seconds,
-                summary.frames / std::max(summary.seconds, 1e-9));
+                summary.distance / 1000.0, source.c_str(), static_cast<unsigned long long>(seed), out.c_str(),
+                summary.seconds, summary.frames / std::max(summary.seconds, 1e-9));
     return 0;
   });
 }

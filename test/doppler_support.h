@@ -14,7 +14,10 @@
 namespace radar_ndt {
 namespace test {
 inline std::vector<SensorMounting> nuScenesLikeMountings() {
-  return {{3.41, 0.0, 0.0, true}, {2.42, 0.8, kPi / 2, true}, {2.42, -0.8, -kPi / 2, true}, {-0.56, 0.63, kPi, true},
+  return {{3.41, 0.0, 0.0, true},
+          {2.42, 0.8, kPi / 2, true},
+          {2.42, -0.8, -kPi / 2, true},
+          {-0.56, 0.63, kPi, true},
           {-0.56, -0.62, -kPi, true}};
 }
 
@@ -29,7 +32,8 @@ inline pcl::PointCloud<PointRadar> makeCycle(const Eigen::Vector3d& v, int mover
   for (std::uint16_t s = 0; s < mounts.size(); ++s) {
     for (int i = 0; i < 40; ++i) {
       const double a = mounts[s].yaw + az(rng), r = range(rng);
-      PointRadar p(static_cast<float>(mounts[s].x + r * std::cos(a)), static_cast<float>(mounts[s].y + r * std::sin(a)), 0.f);
+      PointRadar p(static_cast<float>(mounts[s].x + r * std::cos(a)), static_cast<float>(mounts[s].y + r * std::sin(a)),
+                   0.f);
       p.sensor_id = s;
       p.doppler = static_cast<float>(predictedDoppler(mounts[s], p.x, p.y, v) + noise(rng) + (i < movers ? 3.0 : 0.0));
       cloud.push_back(p);

@@ -39,12 +39,14 @@ inline void copyOxfordSequence(const std::string& src, const std::string& dst, s
   }
   std::ifstream gt(src + "/gt/radar_odometry.csv");
   std::ofstream gt_out(dst + "/gt/radar_odometry.csv");
-  for (std::size_t k = 0; k < scans && std::getline(gt, line); ++k) gt_out << line << '\n';  // the header, then scans − 1 rows
+  for (std::size_t k = 0; k < scans && std::getline(gt, line); ++k)
+    gt_out << line << '\n';  // the header, then scans − 1 rows
 }
 
 /// Writes a simulated Oxford-layout sequence along `ego` with the calibrated simulator: the oxford
 /// profile's sensor and world.
-inline void writeOxfordProfileSequence(const std::string& dir, const sim::SimTrajectory& ego, const sim::SequenceOptions& seq) {
+inline void writeOxfordProfileSequence(const std::string& dir, const sim::SimTrajectory& ego,
+                                       const sim::SequenceOptions& seq) {
   sim::WorldOptions world;
   sim::ScanningOptions scanning;
   sim::applyProfile(sim::ScanningProfile::Oxford, world, scanning);

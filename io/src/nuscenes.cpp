@@ -23,10 +23,10 @@ using nlohmann::json;
 double ars408RmsValue(int state_index) {
   // ARS408 technical documentation, cluster quality: state index → standard deviation (m or m/s).
   static constexpr std::array<double, 31> kTable{
-      0.005, 0.006, 0.008, 0.011, 0.014, 0.018, 0.023, 0.029, 0.038, 0.049, 0.063,
-      0.081, 0.105, 0.135, 0.174, 0.224, 0.288, 0.371, 0.478, 0.616, 0.794, 1.023,
-      1.317, 1.697, 2.187, 2.817, 3.630, 4.676, 6.025, 7.762, 10.0};
-  if (state_index < 0 || state_index >= static_cast<int>(kTable.size())) return std::numeric_limits<double>::quiet_NaN();
+      0.005, 0.006, 0.008, 0.011, 0.014, 0.018, 0.023, 0.029, 0.038, 0.049, 0.063, 0.081, 0.105, 0.135, 0.174, 0.224,
+      0.288, 0.371, 0.478, 0.616, 0.794, 1.023, 1.317, 1.697, 2.187, 2.817, 3.630, 4.676, 6.025, 7.762, 10.0};
+  if (state_index < 0 || state_index >= static_cast<int>(kTable.size()))
+    return std::numeric_limits<double>::quiet_NaN();
   return kTable[static_cast<std::size_t>(state_index)];
 }
 
@@ -35,8 +35,8 @@ double ars408RmsValue(int state_index) {
 namespace {
 
 enum Column { kX, kY, kZ, kVx, kVy, kRcs, kDynProp, kAmbig, kInvalid, kXRms, kYRms, kColumns };
-constexpr const char* kColumnNames[kColumns] = {"x", "y", "z", "vx", "vy", "rcs", "dyn_prop", "ambig_state",
-                                                "invalid_state", "x_rms", "y_rms"};
+constexpr const char* kColumnNames[kColumns] = {
+    "x", "y", "z", "vx", "vy", "rcs", "dyn_prop", "ambig_state", "invalid_state", "x_rms", "y_rms"};
 
 bool accepts(const std::vector<int>& allowed, double value) {
   if (allowed.empty()) return true;
@@ -53,7 +53,9 @@ pcl::PointCloud<PointRadar> readNuScenesRadarPcd(const std::string& path, const 
   std::array<int, kColumns> col;
   for (int c = 0; c < kColumns; ++c) col[c] = h.find(kColumnNames[c]);
   for (int c : {kX, kY, kVx, kVy})
-    if (col[c] < 0) throw IoError(path, std::string("no field '") + kColumnNames[c] + "': not a nuScenes radar PCD (needs x y vx vy)");
+    if (col[c] < 0)
+      throw IoError(path,
+                    std::string("no field '") + kColumnNames[c] + "': not a nuScenes radar PCD (needs x y vx vy)");
 
   const std::size_t n = h.points;
   // Only the columns we use, as doubles: [point][column], NaN where the file lacks the field.
@@ -107,7 +109,9 @@ class Table {
  public:
   Table(const std::string& dir, const std::string& name) : file_((fs::path(dir) / (name + ".json")).string()) {
     std::ifstream in(file_, std::ios::binary);
-    if (!in) throw IoError(file_, "missing table " + name + ".json (needed: sensor, calibrated_sensor, sample_data, ego_pose, sample, scene, log)");
+    if (!in)
+      throw IoError(file_, "missing table " + name +
+                               ".json (needed: sensor, calibrated_sensor, sample_data, ego_pose, sample, scene, log)");
     try {
       rows_ = json::parse(in);
     } catch (const json::exception& e) {
@@ -132,7 +136,8 @@ class Table {
   }
   std::int64_t integer(std::size_t row, const char* key) const {
     const json& v = field(row, key);
-    if (!v.is_number_integer()) throw IoError(file_, "row " + std::to_string(row) + ": '" + key + "' is not an integer");
+    if (!v.is_number_integer())
+      throw IoError(file_, "row " + std::to_string(row) + ": '" + key + "' is not an integer");
     return v.get<std::int64_t>();
   }
   bool boolean(std::size_t row, const char* key, bool fallback) const {
@@ -144,12 +149,14 @@ class Table {
   std::vector<double> numbers(std::size_t row, const char* key, std::size_t count) const {
     const json& v = field(row, key);
     if (!v.is_array() || v.size() != count)
-      throw IoError(file_, "row " + std::to_string(row) + ": '" + key + "' is not an array of " + std::to_string(count) + " numbers");
+      throw IoError(file_, "row " + std::to_string(row) + ": '" + key + "' is not an array of " +
+                               std::to_string(count) + " numbers");
     std::vector<double> out;
     for (const auto& x : v) {
       if (!x.is_number()) throw IoError(file_, "row " + std::to_string(row) + ": '" + key + "' holds a non-number");
       out.push_back(x.get<double>());
-      if (!std::isfinite(out.back())) throw IoError(file_, "row " + std::to_string(row) + ": '" + key + "' holds a non-finite number");
+      if (!std::isfinite(out.back()))
+        throw IoError(file_, "row " + std::to_string(row) + ": '" + key + "' holds a non-finite number");
     }
     return out;
   }
@@ -159,7 +166,8 @@ class Table {
     const auto q = numbers(row, "rotation", 4);
     Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
     const double norm = quat.norm();
-    if (!(std::abs(norm - 1.0) < 1e-2)) throw IoError(file_, "row " + std::to_string(row) + ": rotation quaternion has norm " + std::to_string(norm));
+    if (!(std::abs(norm - 1.0) < 1e-2))
+      throw IoError(file_, "row " + std::to_string(row) + ": rotation quaternion has norm " + std::to_string(norm));
     quat.normalize();
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.linear() = quat.toRotationMatrix();
@@ -183,11 +191,14 @@ std::string findTableDirectory(const std::string& dataroot, const std::string& v
   if (fs::exists(fs::path(dataroot) / "sensor.json", ec)) return dataroot;
   std::vector<std::string> candidates;
   for (const auto& entry : fs::directory_iterator(dataroot, ec))
-    if (entry.is_directory(ec) && fs::exists(entry.path() / "sensor.json", ec)) candidates.push_back(entry.path().string());
+    if (entry.is_directory(ec) && fs::exists(entry.path() / "sensor.json", ec))
+      candidates.push_back(entry.path().string());
   std::sort(candidates.begin(), candidates.end());
-  if (candidates.empty()) throw IoError(dataroot, "no table directory (a subfolder such as v1.0-mini holding sensor.json)");
+  if (candidates.empty())
+    throw IoError(dataroot, "no table directory (a subfolder such as v1.0-mini holding sensor.json)");
   if (candidates.size() > 1)
-    throw IoError(dataroot, "several table directories (" + candidates.front() + ", " + candidates[1] + ", ...): choose one with a version");
+    throw IoError(dataroot, "several table directories (" + candidates.front() + ", " + candidates[1] +
+                                ", ...): choose one with a version");
   return candidates.front();
 }
 
@@ -195,8 +206,9 @@ std::string findTableDirectory(const std::string& dataroot, const std::string& v
 
 NuScenesDataset::NuScenesDataset(const std::string& dataroot, const std::string& version)
     : dataroot_(dataroot), table_dir_(findTableDirectory(dataroot, version)) {
-  const Table sensor(table_dir_, "sensor"), calibrated(table_dir_, "calibrated_sensor"), sample_data(table_dir_, "sample_data"),
-      ego_pose(table_dir_, "ego_pose"), sample(table_dir_, "sample"), scene(table_dir_, "scene"), log(table_dir_, "log");
+  const Table sensor(table_dir_, "sensor"), calibrated(table_dir_, "calibrated_sensor"),
+      sample_data(table_dir_, "sample_data"), ego_pose(table_dir_, "ego_pose"), sample(table_dir_, "sample"),
+      scene(table_dir_, "scene"), log(table_dir_, "log");
 
   std::unordered_map<std::string, int> radar_sensor;  // sensor token → radar channel index
   for (std::size_t i = 0; i < sensor.size(); ++i) {
@@ -230,7 +242,8 @@ NuScenesDataset::NuScenesDataset(const std::string& dataroot, const std::string&
     s.log_token = scene.str(i, "log_token");
     const auto d = scene.field(i, "description");
     s.description = d.is_string() ? d.get<std::string>() : "";
-    if (!logs.count(s.log_token)) throw IoError(scene.file(), "row " + std::to_string(i) + ": log_token '" + s.log_token + "' is not in log.json");
+    if (!logs.count(s.log_token))
+      throw IoError(scene.file(), "row " + std::to_string(i) + ": log_token '" + s.log_token + "' is not in log.json");
     scenes_.push_back(s);
   }
 
@@ -251,17 +264,22 @@ NuScenesDataset::NuScenesDataset(const std::string& dataroot, const std::string&
     for (const auto& part : relative)
       if (part == "..") leaves = true;
     if (leaves)
-      throw IoError(sample_data.file(), "row " + std::to_string(i) + ": filename '" + filename +
-                                            "' leaves the dataroot (an absolute path or '..'); sweeps must lie under it");
+      throw IoError(sample_data.file(),
+                    "row " + std::to_string(i) + ": filename '" + filename +
+                        "' leaves the dataroot (an absolute path or '..'); sweeps must lie under it");
     s.path = (fs::path(dataroot_) / relative).string();
     s.sensor_to_ego = cal->second.pose;
     const std::string ego_token = sample_data.str(i, "ego_pose_token");
     const auto ego = ego_row.find(ego_token);
-    if (ego == ego_row.end()) throw IoError(sample_data.file(), "row " + std::to_string(i) + ": ego_pose_token '" + ego_token + "' is not in ego_pose.json");
+    if (ego == ego_row.end())
+      throw IoError(sample_data.file(),
+                    "row " + std::to_string(i) + ": ego_pose_token '" + ego_token + "' is not in ego_pose.json");
     s.ego_to_global = ego_pose.pose(ego->second);
     const std::string sample_token = sample_data.str(i, "sample_token");
     const auto sc = sample_scene.find(sample_token);
-    if (sc == sample_scene.end()) throw IoError(sample_data.file(), "row " + std::to_string(i) + ": sample_token '" + sample_token + "' is not in sample.json");
+    if (sc == sample_scene.end())
+      throw IoError(sample_data.file(),
+                    "row " + std::to_string(i) + ": sample_token '" + sample_token + "' is not in sample.json");
     sweeps_by_scene_[sc->second].push_back(std::move(s));
   }
   for (auto& [token, sweeps] : sweeps_by_scene_)

@@ -30,10 +30,12 @@ void put(std::string& out, T v) {
 std::string nuScenesRadarPcdBytes(const std::vector<NuScenesRadarPoint>& points) {
   std::ostringstream h;
   h << "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\n"
-       "FIELDS x y z dyn_prop id rcs vx vy vx_comp vy_comp is_quality_valid ambig_state x_rms y_rms invalid_state pdh0 vx_rms vy_rms\n"
+       "FIELDS x y z dyn_prop id rcs vx vy vx_comp vy_comp is_quality_valid ambig_state x_rms y_rms invalid_state pdh0 "
+       "vx_rms vy_rms\n"
        "SIZE 4 4 4 1 2 4 4 4 4 4 1 1 1 1 1 1 1 1\nTYPE F F F I I F F F F F I I I I I I I I\n"
        "COUNT 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1\n"
-    << "WIDTH " << points.size() << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << points.size() << "\nDATA binary\n";
+    << "WIDTH " << points.size() << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << points.size()
+    << "\nDATA binary\n";
   std::string out = h.str();
   for (const NuScenesRadarPoint& p : points) {
     put(out, p.x);
@@ -83,12 +85,13 @@ void NuScenesTableWriter::addSensor(const std::string& token, const std::string&
 }
 
 void NuScenesTableWriter::addCalibratedSensor(const std::string& token, const std::string& sensor_token,
-                                              const std::array<double, 3>& translation, const std::array<double, 4>& rotation) {
+                                              const std::array<double, 3>& translation,
+                                              const std::array<double, 4>& rotation) {
   calibrations_.push_back({token, sensor_token, translation, rotation});
 }
 
-void NuScenesTableWriter::addEgoPose(const std::string& token, std::int64_t timestamp, const std::array<double, 4>& rotation,
-                                     const std::array<double, 3>& translation) {
+void NuScenesTableWriter::addEgoPose(const std::string& token, std::int64_t timestamp,
+                                     const std::array<double, 4>& rotation, const std::array<double, 3>& translation) {
   ego_poses_.push_back({token, timestamp, rotation, translation});
 }
 
@@ -96,7 +99,8 @@ void NuScenesTableWriter::addSampleData(const std::string& token, const std::str
                                         const std::string& ego_pose_token, const std::string& calibrated_sensor_token,
                                         std::int64_t timestamp, bool is_key_frame, const std::string& filename,
                                         const std::string& prev, const std::string& next) {
-  sample_data_.push_back({token, sample_token, ego_pose_token, calibrated_sensor_token, timestamp, is_key_frame, filename, prev, next});
+  sample_data_.push_back(
+      {token, sample_token, ego_pose_token, calibrated_sensor_token, timestamp, is_key_frame, filename, prev, next});
 }
 
 void NuScenesTableWriter::write(const std::string& table_dir) const {
@@ -118,8 +122,13 @@ void NuScenesTableWriter::write(const std::string& table_dir) const {
                       {"name", r.name},
                       {"description", r.description}});
   for (const SampleRow& r : samples_)
-    samples.push_back({{"token", r.token}, {"timestamp", r.timestamp}, {"prev", r.prev}, {"next", r.next}, {"scene_token", r.scene_token}});
-  for (const SensorRow& r : sensors_) sensors.push_back({{"token", r.token}, {"channel", r.channel}, {"modality", r.modality}});
+    samples.push_back({{"token", r.token},
+                       {"timestamp", r.timestamp},
+                       {"prev", r.prev},
+                       {"next", r.next},
+                       {"scene_token", r.scene_token}});
+  for (const SensorRow& r : sensors_)
+    sensors.push_back({{"token", r.token}, {"channel", r.channel}, {"modality", r.modality}});
   for (const CalibrationRow& r : calibrations_)
     calibrations.push_back({{"token", r.token},
                             {"sensor_token", r.sensor_token},
@@ -127,7 +136,8 @@ void NuScenesTableWriter::write(const std::string& table_dir) const {
                             {"rotation", r.rotation},
                             {"camera_intrinsic", json::array()}});
   for (const EgoPoseRow& r : ego_poses_)
-    ego_poses.push_back({{"token", r.token}, {"timestamp", r.timestamp}, {"rotation", r.rotation}, {"translation", r.translation}});
+    ego_poses.push_back(
+        {{"token", r.token}, {"timestamp", r.timestamp}, {"rotation", r.rotation}, {"translation", r.translation}});
   for (const SampleDataRow& r : sample_data_)
     sample_data.push_back({{"token", r.token},
                            {"sample_token", r.sample_token},

@@ -9,9 +9,9 @@
 
 #include <pcl/io/pcd_io.h>
 
+#include "pcd_header.h"
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/pcd.h"
-#include "pcd_header.h"
 
 namespace radar_ndt {
 
@@ -19,10 +19,11 @@ pcl::PointCloud<PointRadar> loadPointRadarPcd(const std::string& path, std::size
   // Our own parser, not pcl::PCDReader: PCL's reader allocates what a header claims and has
   // memory errors on malformed headers (found by fuzz/fuzz_nuscenes_pcd).
   const detail::PcdHeader h = detail::readPcdHeader(path);
-  static const std::vector<std::string> kNames = {"x", "y", "z", "power", "rcs", "cov_xx", "cov_xy",
-                                                  "cov_yy", "doppler", "time_offset", "sensor_id"};
+  static const std::vector<std::string> kNames = {"x",      "y",      "z",       "power",       "rcs",      "cov_xx",
+                                                  "cov_xy", "cov_yy", "doppler", "time_offset", "sensor_id"};
   for (const char* required : {"x", "y"})
-    if (h.find(required) < 0) throw IoError(path, std::string("no field '") + required + "': not a point cloud with x and y");
+    if (h.find(required) < 0)
+      throw IoError(path, std::string("no field '") + required + "': not a point cloud with x and y");
   const std::vector<double> t = detail::readPcdColumns(path, h, kNames);
   pcl::PointCloud<PointRadar> cloud;
   cloud.reserve(h.points);

@@ -74,16 +74,20 @@ PcdHeader readPcdHeader(const std::string& path) {
       const std::size_t n = names.size();
       if (n == 0) throw IoError(path, line_no, "no FIELDS before DATA");
       if (sizes.size() != n)
-        throw IoError(path, line_no, "SIZE has " + std::to_string(sizes.size()) + " entries for " + std::to_string(n) + " fields");
+        throw IoError(path, line_no,
+                      "SIZE has " + std::to_string(sizes.size()) + " entries for " + std::to_string(n) + " fields");
       if (types.empty()) types.assign(n, 'F');
       if (types.size() != n)
-        throw IoError(path, line_no, "TYPE has " + std::to_string(types.size()) + " entries for " + std::to_string(n) + " fields");
+        throw IoError(path, line_no,
+                      "TYPE has " + std::to_string(types.size()) + " entries for " + std::to_string(n) + " fields");
       if (counts.empty()) counts.assign(n, 1);
       if (counts.size() != n)
-        throw IoError(path, line_no, "COUNT has " + std::to_string(counts.size()) + " entries for " + std::to_string(n) + " fields");
+        throw IoError(path, line_no,
+                      "COUNT has " + std::to_string(counts.size()) + " entries for " + std::to_string(n) + " fields");
       for (std::size_t i = 0; i < n; ++i) {
         if (sizes[i] != 1 && sizes[i] != 2 && sizes[i] != 4 && sizes[i] != 8)
-          throw IoError(path, line_no, "field '" + names[i] + "' has size " + std::to_string(sizes[i]) + ", not 1, 2, 4 or 8");
+          throw IoError(path, line_no,
+                        "field '" + names[i] + "' has size " + std::to_string(sizes[i]) + ", not 1, 2, 4 or 8");
         if (types[i] == 'F' && sizes[i] != 4 && sizes[i] != 8)
           throw IoError(path, line_no, "float field '" + names[i] + "' has size " + std::to_string(sizes[i]));
         if (counts[i] == 0 || counts[i] > 1000000)
@@ -95,7 +99,9 @@ PcdHeader readPcdHeader(const std::string& path) {
       if (h.height == 0 && h.width > 0) throw IoError(path, line_no, "HEIGHT 0 with WIDTH " + std::to_string(h.width));
       if (!have_points) h.points = h.width * h.height;
       if (h.width * h.height != h.points)
-        throw IoError(path, line_no, "WIDTH x HEIGHT (" + std::to_string(h.width * h.height) + ") != POINTS (" + std::to_string(h.points) + ")");
+        throw IoError(
+            path, line_no,
+            "WIDTH x HEIGHT (" + std::to_string(h.width * h.height) + ") != POINTS (" + std::to_string(h.points) + ")");
       if (!in.good()) throw IoError(path, line_no, "header ends without data");
       h.data_offset = static_cast<std::uintmax_t>(in.tellg());
       const std::uintmax_t available = h.file_size - std::min(h.file_size, h.data_offset);
@@ -103,11 +109,13 @@ PcdHeader readPcdHeader(const std::string& path) {
         h.data = PcdData::Binary;
         const std::uintmax_t need = static_cast<std::uintmax_t>(h.points) * h.point_bytes;
         if (available < need)
-          throw IoError(path, "header declares " + std::to_string(h.points) + " points of " + std::to_string(h.point_bytes) +
-                                  " bytes, but the file holds only " + std::to_string(available) + " data bytes (truncated?)");
+          throw IoError(path, "header declares " + std::to_string(h.points) + " points of " +
+                                  std::to_string(h.point_bytes) + " bytes, but the file holds only " +
+                                  std::to_string(available) + " data bytes (truncated?)");
       } else if (values[0] == "ascii") {
         h.data = PcdData::Ascii;
-        if (h.points > available) throw IoError(path, "header declares " + std::to_string(h.points) + " points, more than the file has bytes");
+        if (h.points > available)
+          throw IoError(path, "header declares " + std::to_string(h.points) + " points, more than the file has bytes");
       } else if (values[0] == "binary_compressed") {
         h.data = PcdData::BinaryCompressed;
         if (h.points > 0) {
@@ -120,11 +128,11 @@ PcdHeader readPcdHeader(const std::string& path) {
             uncompressed = (uncompressed << 8) | words[4 + b];
           }
           if (static_cast<std::uintmax_t>(uncompressed) != static_cast<std::uintmax_t>(h.points) * h.point_bytes)
-            throw IoError(path, "binary_compressed size word says " + std::to_string(uncompressed) + " bytes, the header needs " +
-                                    std::to_string(h.points * h.point_bytes));
+            throw IoError(path, "binary_compressed size word says " + std::to_string(uncompressed) +
+                                    " bytes, the header needs " + std::to_string(h.points * h.point_bytes));
           if (compressed > available - 8)
-            throw IoError(path, "binary_compressed data of " + std::to_string(compressed) + " bytes, but the file holds " +
-                                    std::to_string(available - 8) + " (truncated?)");
+            throw IoError(path, "binary_compressed data of " + std::to_string(compressed) +
+                                    " bytes, but the file holds " + std::to_string(available - 8) + " (truncated?)");
         }
       } else {
         throw IoError(path, line_no, "unknown DATA format '" + values[0].substr(0, 20) + "'");
@@ -177,22 +185,52 @@ double readPcdScalar(const unsigned char* p, const PcdField& f) {
       }
     case 'I':
       switch (f.size) {
-        case 1: { std::int8_t v; std::memcpy(&v, p, 1); return v; }
-        case 2: { std::int16_t v; std::memcpy(&v, p, 2); return v; }
-        case 4: { std::int32_t v; std::memcpy(&v, p, 4); return v; }
-        default: { std::int64_t v; std::memcpy(&v, p, 8); return static_cast<double>(v); }
+        case 1: {
+          std::int8_t v;
+          std::memcpy(&v, p, 1);
+          return v;
+        }
+        case 2: {
+          std::int16_t v;
+          std::memcpy(&v, p, 2);
+          return v;
+        }
+        case 4: {
+          std::int32_t v;
+          std::memcpy(&v, p, 4);
+          return v;
+        }
+        default: {
+          std::int64_t v;
+          std::memcpy(&v, p, 8);
+          return static_cast<double>(v);
+        }
       }
     default:
       switch (f.size) {
         case 1: return p[0];
-        case 2: { std::uint16_t v; std::memcpy(&v, p, 2); return v; }
-        case 4: { std::uint32_t v; std::memcpy(&v, p, 4); return v; }
-        default: { std::uint64_t v; std::memcpy(&v, p, 8); return static_cast<double>(v); }
+        case 2: {
+          std::uint16_t v;
+          std::memcpy(&v, p, 2);
+          return v;
+        }
+        case 4: {
+          std::uint32_t v;
+          std::memcpy(&v, p, 4);
+          return v;
+        }
+        default: {
+          std::uint64_t v;
+          std::memcpy(&v, p, 8);
+          return static_cast<double>(v);
+        }
       }
   }
 }
 
-bool finiteAsFloat(double v) { return std::isfinite(v) && std::abs(v) <= std::numeric_limits<float>::max(); }
+bool finiteAsFloat(double v) {
+  return std::isfinite(v) && std::abs(v) <= std::numeric_limits<float>::max();
+}
 
 std::vector<double> readPcdColumns(const std::string& path, const PcdHeader& h, const std::vector<std::string>& names) {
   const std::size_t n = h.points, k = names.size();
@@ -227,7 +265,8 @@ std::vector<double> readPcdColumns(const std::string& path, const PcdHeader& h, 
         if (!*s) break;
         const double v = std::strtod(s, &end);
         if (end == s)
-          throw IoError(path, "data line " + std::to_string(line_number) + ": unparsable value '" + std::string(s).substr(0, 20) + "'");
+          throw IoError(path, "data line " + std::to_string(line_number) + ": unparsable value '" +
+                                  std::string(s).substr(0, 20) + "'");
         values.push_back(v);
         s = end;
       }

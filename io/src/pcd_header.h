@@ -12,10 +12,10 @@ namespace detail {
 
 struct PcdField {
   std::string name;
-  std::size_t size = 4;   ///< bytes per element: 1, 2, 4 or 8
-  char type = 'F';        ///< 'F' float, 'I' signed, 'U' unsigned
-  std::size_t count = 1;  ///< elements per point
-  std::size_t offset = 0; ///< byte offset inside one packed point (binary layout)
+  std::size_t size = 4;    ///< bytes per element: 1, 2, 4 or 8
+  char type = 'F';         ///< 'F' float, 'I' signed, 'U' unsigned
+  std::size_t count = 1;   ///< elements per point
+  std::size_t offset = 0;  ///< byte offset inside one packed point (binary layout)
 };
 
 enum class PcdData { Ascii, Binary, BinaryCompressed };

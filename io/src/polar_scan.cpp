@@ -96,8 +96,8 @@ bool decodePngSamples(PngReadContext& ctx, bool& header_done) {
     } else if (pixels / kMaxInflation > ctx.data->size()) {
       // zlib inflates at most ~1032:1, so a header that declares more pixels than the file can
       // hold is refused before the image is allocated.
-      ctx.refusal = "PNG declares " + std::to_string(ctx.width) + "x" + std::to_string(ctx.height) + " pixels, more than its " +
-                    std::to_string(ctx.data->size()) + " bytes can hold (truncated?)";
+      ctx.refusal = "PNG declares " + std::to_string(ctx.width) + "x" + std::to_string(ctx.height) +
+                    " pixels, more than its " + std::to_string(ctx.data->size()) + " bytes can hold (truncated?)";
     }
   }
   if (!ctx.refusal.empty()) {
@@ -109,7 +109,8 @@ bool decodePngSamples(PngReadContext& ctx, bool& header_done) {
   png_set_interlace_handling(png);
   png_read_update_info(png, info);
   ctx.channels = png_get_channels(png, info);
-  if ((ctx.channels != 1 && ctx.channels != 3) || png_get_rowbytes(png, info) != static_cast<std::size_t>(ctx.width) * ctx.channels)
+  if ((ctx.channels != 1 && ctx.channels != 3) ||
+      png_get_rowbytes(png, info) != static_cast<std::size_t>(ctx.width) * ctx.channels)
     png_error(png, "unexpected sample layout after expansion");
   try {
     ctx.samples.resize(static_cast<std::size_t>(ctx.width) * ctx.height * ctx.channels);
@@ -119,7 +120,8 @@ bool decodePngSamples(PngReadContext& ctx, bool& header_done) {
     ctx.refusal = "out of memory for a " + std::to_string(ctx.width) + "x" + std::to_string(ctx.height) + " image";
     return false;
   }
-  for (png_uint_32 r = 0; r < ctx.height; ++r) ctx.rows[r] = ctx.samples.data() + static_cast<std::size_t>(r) * ctx.width * ctx.channels;
+  for (png_uint_32 r = 0; r < ctx.height; ++r)
+    ctx.rows[r] = ctx.samples.data() + static_cast<std::size_t>(r) * ctx.width * ctx.channels;
   png_read_image(png, ctx.rows.data());
   png_read_end(png, nullptr);
   png_destroy_read_struct(&png, &info, nullptr);
@@ -136,7 +138,8 @@ GrayImage decodeGrayPng(const std::string& path, const std::string& data) {
   bool header_done = false;
   if (!decodePngSamples(ctx, header_done)) {
     if (!ctx.refusal.empty()) throw IoError(path, ctx.refusal);
-    throw IoError(path, std::string(header_done ? "corrupt or truncated PNG data: " : "invalid PNG header: ") + ctx.message);
+    throw IoError(path,
+                  std::string(header_done ? "corrupt or truncated PNG data: " : "invalid PNG header: ") + ctx.message);
   }
   GrayImage out;
   out.width = static_cast<int>(ctx.width);
@@ -152,9 +155,9 @@ GrayImage decodeGrayPng(const std::string& path, const std::string& data) {
   for (std::size_t i = 0; i < pixels; ++i) {
     const std::uint8_t* p = ctx.samples.data() + 3 * i;
     if (p[0] != p[1] || p[0] != p[2])
-      throw IoError(path, "expected an 8-bit grayscale PNG, found a colour image (pixel " + std::to_string(i % ctx.width) + ", " +
-                              std::to_string(i / ctx.width) + " is RGB " + std::to_string(p[0]) + "," + std::to_string(p[1]) + "," +
-                              std::to_string(p[2]) + ")");
+      throw IoError(path, "expected an 8-bit grayscale PNG, found a colour image (pixel " +
+                              std::to_string(i % ctx.width) + ", " + std::to_string(i / ctx.width) + " is RGB " +
+                              std::to_string(p[0]) + "," + std::to_string(p[1]) + "," + std::to_string(p[2]) + ")");
     out.pixels[i] = p[0];
   }
   return out;
@@ -199,7 +202,9 @@ std::int64_t readLe64(const std::uint8_t* p) {
   for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
   return static_cast<std::int64_t>(v);
 }
-std::uint16_t readLe16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); }
+std::uint16_t readLe16(const std::uint8_t* p) {
+  return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
+}
 
 bool stemAsStamp(const std::string& path, std::int64_t& stamp) {
   const std::size_t slash = path.find_last_of('/');
@@ -262,7 +267,9 @@ double PolarConvention::toSensorAzimuth(double vehicle_angle) const {
   return a;
 }
 
-GrayImage readGrayPng(const std::string& path) { return decodeGrayPng(path, detail::readWholeFile(path)); }
+GrayImage readGrayPng(const std::string& path) {
+  return decodeGrayPng(path, detail::readWholeFile(path));
+}
 
 void writePng(const std::string& path, int width, int height, int channels, const std::uint8_t* pixels,
               int compression_level) {
@@ -308,7 +315,8 @@ PolarScan readOxfordPolarPng(const std::string& path, const OxfordPolarOptions& 
                               " outside [0, " + std::to_string(options.encoder_size) + ")");
     if (a > 0 && scan.stamp_us[a] < scan.stamp_us[a - 1])
       throw IoError(path, "row " + std::to_string(a) + ": azimuth timestamps out of order (" +
-                              std::to_string(scan.stamp_us[a]) + " after " + std::to_string(scan.stamp_us[a - 1]) + ")");
+                              std::to_string(scan.stamp_us[a]) + " after " + std::to_string(scan.stamp_us[a - 1]) +
+                              ")");
     scan.angle[a] = options.convention.toVehicleAngle(kTwoPi * scan.encoder[a] / options.encoder_size);
     std::memcpy(scan.row(a), row + kOxfordMetaBytes, static_cast<std::size_t>(bins));
   }
@@ -331,8 +339,8 @@ void writeOxfordPolarPng(const std::string& path, const PolarScan& scan, const O
     for (int i = 0; i < 8; ++i) row[i] = static_cast<std::uint8_t>(t >> (8 * i));
     int enc = scan.encoder.size() == static_cast<std::size_t>(scan.azimuths)
                   ? scan.encoder[a]
-                  : static_cast<int>(std::lround(options.convention.toSensorAzimuth(scan.angle[a]) / kTwoPi *
-                                                 options.encoder_size));
+                  : static_cast<int>(
+                        std::lround(options.convention.toSensorAzimuth(scan.angle[a]) / kTwoPi * options.encoder_size));
     enc %= options.encoder_size;
     row[8] = static_cast<std::uint8_t>(enc & 0xff);
     row[9] = static_cast<std::uint8_t>((enc >> 8) & 0xff);
@@ -379,16 +387,16 @@ std::vector<OxfordStamp> readOxfordTimestamps(const std::string& path, std::vect
       std::istringstream ss(line);
       std::string t, v, extra;
       if (!(ss >> t)) continue;  // blank line
-      if (!(ss >> v) || (ss >> extra))
-        throw IoError(path, n, "expected '<timestamp> <valid>', found '" + line + "'");
+      if (!(ss >> v) || (ss >> extra)) throw IoError(path, n, "expected '<timestamp> <valid>', found '" + line + "'");
       OxfordStamp s;
       s.stamp = parseInt64(path, n, t, "timestamp");
       const std::int64_t valid = parseInt64(path, n, v, "valid flag");
       if (valid != 0 && valid != 1) throw IoError(path, n, "valid flag must be 0 or 1, found " + v);
       s.valid = valid == 1;
       if (!out.empty() && s.stamp <= out.back().stamp)
-        throw IoError(path, n, std::string(s.stamp == out.back().stamp ? "duplicated timestamp" : "timestamps out of order") +
-                                   " (" + t + " after " + std::to_string(out.back().stamp) + ")");
+        throw IoError(path, n,
+                      std::string(s.stamp == out.back().stamp ? "duplicated timestamp" : "timestamps out of order") +
+                          " (" + t + " after " + std::to_string(out.back().stamp) + ")");
       out.push_back(s);
     } catch (const IoError& e) {
       if (!skipped) throw;
@@ -422,7 +430,8 @@ std::vector<OxfordRelativePose> readOxfordRadarOdometry(const std::string& path)
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     const std::vector<std::string> cells = splitCsv(line);
     if (cells.size() != header.size())
-      throw IoError(path, n, "expected " + std::to_string(header.size()) + " columns, found " + std::to_string(cells.size()));
+      throw IoError(path, n,
+                    "expected " + std::to_string(header.size()) + " columns, found " + std::to_string(cells.size()));
     OxfordRelativePose r;
     r.source = parseInt64(path, n, cells[col["source_timestamp"]], "source_timestamp");
     r.destination = parseInt64(path, n, cells[col["destination_timestamp"]], "destination_timestamp");
@@ -434,7 +443,8 @@ std::vector<OxfordRelativePose> readOxfordRadarOdometry(const std::string& path)
     r.yaw = parseFinite(path, n, cells[col["yaw"]], "yaw");
     if (has_radar) {
       r.source_radar = parseInt64(path, n, cells[col["source_radar_timestamp"]], "source_radar_timestamp");
-      r.destination_radar = parseInt64(path, n, cells[col["destination_radar_timestamp"]], "destination_radar_timestamp");
+      r.destination_radar =
+          parseInt64(path, n, cells[col["destination_radar_timestamp"]], "destination_radar_timestamp");
     } else {
       r.source_radar = r.source;
       r.destination_radar = r.destination;
@@ -442,8 +452,9 @@ std::vector<OxfordRelativePose> readOxfordRadarOdometry(const std::string& path)
     if (r.source <= r.destination)
       throw IoError(path, n, "source_timestamp must be later than destination_timestamp (the dataset's order)");
     if (!out.empty() && r.destination != out.back().source)
-      throw IoError(path, n, "row does not chain: destination_timestamp " + std::to_string(r.destination) +
-                                 " is not the previous row's source_timestamp " + std::to_string(out.back().source));
+      throw IoError(path, n,
+                    "row does not chain: destination_timestamp " + std::to_string(r.destination) +
+                        " is not the previous row's source_timestamp " + std::to_string(out.back().source));
     out.push_back(r);
   }
   return out;
@@ -452,7 +463,8 @@ std::vector<OxfordRelativePose> readOxfordRadarOdometry(const std::string& path)
 void writeOxfordRadarOdometry(const std::string& path, const std::vector<OxfordRelativePose>& rows) {
   std::ostringstream s;
   s.precision(17);
-  s << "source_timestamp,destination_timestamp,x,y,z,roll,pitch,yaw,source_radar_timestamp,destination_radar_timestamp\n";
+  s << "source_timestamp,destination_timestamp,x,y,z,roll,pitch,yaw,source_radar_timestamp,destination_radar_"
+       "timestamp\n";
   for (const auto& r : rows)
     s << r.source << ',' << r.destination << ',' << r.x << ',' << r.y << ',' << r.z << ',' << r.roll << ',' << r.pitch
       << ',' << r.yaw << ',' << r.source_radar << ',' << r.destination_radar << '\n';
@@ -490,8 +502,10 @@ std::vector<RadiateFrame> readRadiateFrameTimes(const std::string& path, std::ve
         throw IoError(path, n, "time '" + t + "' out of range");
       r.stamp_us = seconds * 1000000 + parseInt64(path, n, frac, "time");
       if (!out.empty() && r.stamp_us <= out.back().stamp_us)
-        throw IoError(path, n, std::string(r.stamp_us == out.back().stamp_us ? "duplicated frame time" : "frame times out of order") +
-                                   " (frame " + f + ")");
+        throw IoError(
+            path, n,
+            std::string(r.stamp_us == out.back().stamp_us ? "duplicated frame time" : "frame times out of order") +
+                " (frame " + f + ")");
       out.push_back(r);
     } catch (const IoError& e) {
       if (!skipped) throw;

@@ -10,8 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/atomic_file.h"
+#include "radar_ndt/io/io_error.h"
 #include "read_file.h"
 
 namespace radar_ndt {
@@ -88,8 +88,7 @@ std::size_t firstDataColumnCount(const std::string& path, const std::string& tex
 Trajectory parseKitti(const std::string& path, const std::string& text) {
   Trajectory t;
   forEachDataLine(path, text, [&](std::size_t line_no, const std::vector<double>& v) {
-    if (v.size() != 12)
-      throw IoError(path, line_no, "KITTI pose needs 12 numbers, found " + std::to_string(v.size()));
+    if (v.size() != 12) throw IoError(path, line_no, "KITTI pose needs 12 numbers, found " + std::to_string(v.size()));
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 4; ++c) T.matrix()(r, c) = v[static_cast<std::size_t>(r * 4 + c)];
@@ -114,8 +113,7 @@ Trajectory parseTum(const std::string& path, const std::string& text) {
     }
     Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
     const double n = q.norm();
-    if (!(std::abs(n - 1.0) < 1e-2))
-      throw IoError(path, line_no, "quaternion norm " + std::to_string(n) + " is not 1");
+    if (!(std::abs(n - 1.0) < 1e-2)) throw IoError(path, line_no, "quaternion norm " + std::to_string(n) + " is not 1");
     q.normalize();
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.linear() = q.toRotationMatrix();
@@ -139,9 +137,13 @@ TrajectoryFormat parseTrajectoryFormat(const std::string& name) {
   throw std::invalid_argument("unknown trajectory format '" + name + "' (expected kitti, tum or auto)");
 }
 
-Trajectory readKitti(const std::string& path) { return parseKitti(path, readWholeFile(path)); }
+Trajectory readKitti(const std::string& path) {
+  return parseKitti(path, readWholeFile(path));
+}
 
-Trajectory readTum(const std::string& path) { return parseTum(path, readWholeFile(path)); }
+Trajectory readTum(const std::string& path) {
+  return parseTum(path, readWholeFile(path));
+}
 
 Trajectory readTrajectory(const std::string& path, TrajectoryFormat format) {
   const std::string text = readWholeFile(path);

@@ -8,7 +8,8 @@
 #include <radar_ndt/se2.h>
 
 int main() {
-  pcl::PointCloud<pcl::PointXYZ>::Ptr target(new pcl::PointCloud<pcl::PointXYZ>), source(new pcl::PointCloud<pcl::PointXYZ>);
+  pcl::PointCloud<pcl::PointXYZ>::Ptr target(new pcl::PointCloud<pcl::PointXYZ>),
+      source(new pcl::PointCloud<pcl::PointXYZ>);
   for (int i = 0; i < 400; ++i) {  // an L-shaped wall and a row of poles
     const float t = 0.05f * static_cast<float>(i);
     target->push_back(pcl::PointXYZ(t, 0.0f, 0.0f));
@@ -28,7 +29,8 @@ int main() {
   const bool ok = reg->hasConverged() && std::abs(T(0, 3) - dx) < 0.02f && std::abs(T(1, 3) - dy) < 0.02f;
 
   // The same pair as PointRadar through the library's matcher factory (RadarNDT::radar_ndt).
-  pcl::PointCloud<radar_ndt::PointRadar>::Ptr t2(new pcl::PointCloud<radar_ndt::PointRadar>), s2(new pcl::PointCloud<radar_ndt::PointRadar>);
+  pcl::PointCloud<radar_ndt::PointRadar>::Ptr t2(new pcl::PointCloud<radar_ndt::PointRadar>),
+      s2(new pcl::PointCloud<radar_ndt::PointRadar>);
   for (const auto& p : *target) t2->push_back(radar_ndt::PointRadar(p.x, p.y, 0.0f));
   for (const auto& p : *source) s2->push_back(radar_ndt::PointRadar(p.x, p.y, 0.0f));
   const radar_ndt::MatcherAdapter matcher = radar_ndt::makeMatcher(radar_ndt::Method::PwNdt, 3.0);
@@ -37,7 +39,9 @@ int main() {
   pcl::PointCloud<radar_ndt::PointRadar> out;
   matcher.registration().align(out);
   const radar_ndt::Pose2 pose = radar_ndt::toPose2(matcher.registration().getFinalTransformation());
-  std::printf("factory: converged %d, t = (%.3f, %.3f)\n", matcher.registration().hasConverged() ? 1 : 0, pose.x(), pose.y());
-  const bool ok2 = matcher.registration().hasConverged() && std::abs(pose.x() - dx) < 0.02 && std::abs(pose.y() - dy) < 0.02;
+  std::printf("factory: converged %d, t = (%.3f, %.3f)\n", matcher.registration().hasConverged() ? 1 : 0, pose.x(),
+              pose.y());
+  const bool ok2 =
+      matcher.registration().hasConverged() && std::abs(pose.x() - dx) < 0.02 && std::abs(pose.y() - dy) < 0.02;
   return ok && ok2 ? 0 : 1;
 }

@@ -19,9 +19,11 @@ void checkScan(const radar_ndt::PolarScan& s) {
   if (s.azimuths <= 0 || s.bins <= 0) finding("a scan without azimuths or bins was returned");
   const std::size_t n = static_cast<std::size_t>(s.azimuths);
   if (s.power.size() != n * static_cast<std::size_t>(s.bins)) finding("power size != azimuths * bins");
-  if (s.angle.size() != n || s.stamp_us.size() != n || s.measured.size() != n) finding("per-azimuth arrays of the wrong size");
+  if (s.angle.size() != n || s.stamp_us.size() != n || s.measured.size() != n)
+    finding("per-azimuth arrays of the wrong size");
   for (std::size_t a = 0; a < n; ++a) {
-    if (!std::isfinite(s.angle[a]) || s.angle[a] <= -radar_ndt::kPi - 1e-9 || s.angle[a] > radar_ndt::kPi + 1e-9) finding("azimuth angle out of (-pi, pi]");
+    if (!std::isfinite(s.angle[a]) || s.angle[a] <= -radar_ndt::kPi - 1e-9 || s.angle[a] > radar_ndt::kPi + 1e-9)
+      finding("azimuth angle out of (-pi, pi]");
     if (a > 0 && s.stamp_us[a] < s.stamp_us[a - 1]) finding("azimuth timestamps go backwards");
   }
   if (!(s.range_resolution > 0.0)) finding("non-positive range resolution");
@@ -34,10 +36,12 @@ std::vector<std::uint8_t> withValidCrcs(const std::uint8_t* data, std::size_t si
   std::vector<std::uint8_t> png(data, data + size);
   std::size_t at = 8;  // after the signature
   while (at + 12 <= png.size()) {
-    const std::size_t length = (std::size_t{png[at]} << 24) | (std::size_t{png[at + 1]} << 16) | (std::size_t{png[at + 2]} << 8) | png[at + 3];
+    const std::size_t length =
+        (std::size_t{png[at]} << 24) | (std::size_t{png[at + 1]} << 16) | (std::size_t{png[at + 2]} << 8) | png[at + 3];
     if (length > png.size() - at - 12) break;
     const uLong crc = crc32(0L, png.data() + at + 4, static_cast<uInt>(4 + length));
-    for (int i = 0; i < 4; ++i) png[at + 8 + length + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(crc >> (24 - 8 * i));
+    for (int i = 0; i < 4; ++i)
+      png[at + 8 + length + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(crc >> (24 - 8 * i));
     at += 12 + length;
   }
   return png;
@@ -49,7 +53,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size < 1) return 0;
   const bool radiate = (data[0] & 1) != 0;
   const char* name = radiate ? "000001.png" : "1547120000000000.png";
-  const std::vector<std::uint8_t> fixed = (data[0] & 2) != 0 ? std::vector<std::uint8_t>(data + 1, data + size) : withValidCrcs(data + 1, size - 1);
+  const std::vector<std::uint8_t> fixed =
+      (data[0] & 2) != 0 ? std::vector<std::uint8_t>(data + 1, data + size) : withValidCrcs(data + 1, size - 1);
   const std::string path = radar_ndt::fuzz::writeBytes(name, fixed.data(), fixed.size());
   radar_ndt::fuzz::readOrIoError(path, [&] {
     if (radiate) {

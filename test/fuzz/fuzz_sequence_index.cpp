@@ -11,7 +11,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using radar_ndt::fuzz::finding;
   if (size < 1) return 0;
   const bool radiate = (data[0] & 1) != 0;
-  const std::string path = radar_ndt::fuzz::writeBytes(radiate ? "Navtech_Polar.txt" : "radar.timestamps", data + 1, size - 1);
+  const std::string path =
+      radar_ndt::fuzz::writeBytes(radiate ? "Navtech_Polar.txt" : "radar.timestamps", data + 1, size - 1);
   // Strict (the default), then lenient (bad lines skipped and reported, as a sequence loads it).
   std::vector<radar_ndt::IoError> skipped;
   auto* lenient = (data[0] & 2) != 0 ? &skipped : nullptr;
@@ -27,6 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
   });
   for (const auto& e : skipped)
-    if (e.file() != path || e.line() == 0) radar_ndt::fuzz::finding(std::string("skipped line without file and line: ") + e.what());
+    if (e.file() != path || e.line() == 0)
+      radar_ndt::fuzz::finding(std::string("skipped line without file and line: ") + e.what());
   return 0;
 }

@@ -30,9 +30,9 @@ inline const std::string& scratchDir() {
   }();
   static const bool cleanup_registered = [] {
     return std::atexit([] {
-      std::error_code ec;
-      std::filesystem::remove_all(*dir, ec);
-    }) == 0;
+             std::error_code ec;
+             std::filesystem::remove_all(*dir, ec);
+           }) == 0;
   }();
   (void)cleanup_registered;
   return *dir;
@@ -60,7 +60,8 @@ void readOrIoError(const std::string& path, Read&& read) {
   try {
     read();
   } catch (const IoError& e) {
-    if (std::string(e.what()).find(path) == std::string::npos) finding(std::string("IoError does not name the file: ") + e.what());
+    if (std::string(e.what()).find(path) == std::string::npos)
+      finding(std::string("IoError does not name the file: ") + e.what());
   }
 }
 

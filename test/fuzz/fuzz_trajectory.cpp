@@ -7,10 +7,12 @@
 #include "radar_ndt/io/trajectory_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  using radar_ndt::fuzz::finding;
   using radar_ndt::TrajectoryFormat;
+  using radar_ndt::fuzz::finding;
   if (size < 1) return 0;
-  const TrajectoryFormat format = data[0] % 3 == 0 ? TrajectoryFormat::Auto : data[0] % 3 == 1 ? TrajectoryFormat::Kitti : TrajectoryFormat::Tum;
+  const TrajectoryFormat format = data[0] % 3 == 0   ? TrajectoryFormat::Auto
+                                  : data[0] % 3 == 1 ? TrajectoryFormat::Kitti
+                                                     : TrajectoryFormat::Tum;
   const std::string path = radar_ndt::fuzz::writeBytes("trajectory.txt", data + 1, size - 1);
   radar_ndt::fuzz::readOrIoError(path, [&] {
     const radar_ndt::Trajectory t = radar_ndt::readTrajectory(path, format);

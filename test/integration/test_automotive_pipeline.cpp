@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "radar_ndt/evaluation/report.h"
+#include "radar_ndt/odometry/automotive_odometry.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/nuscenes_sequence.h"
-#include "radar_ndt/odometry/automotive_odometry.h"
 #include "radar_ndt/se2.h"
 #include "test_support.h"
 
@@ -20,7 +20,8 @@ using namespace radar_ndt;
 
 TEST(AutomotiveOdometry, RealSceneEndToEnd) {
   const std::string root = std::string(RADAR_NDT_SHARED_DATA) + "/nuscenes-mini-radar";
-  if (!std::filesystem::exists(root + "/v1.0-mini/sensor.json")) GTEST_SKIP() << "no " << root << ": skipping the real-data check";
+  if (!std::filesystem::exists(root + "/v1.0-mini/sensor.json"))
+    GTEST_SKIP() << "no " << root << ": skipping the real-data check";
   const NuScenesDataset ds(root);
   const AutomotiveRunOptions options;  // defaults: pw-ndt, N = 3, g = 3 m
   const auto r = runAutomotiveOdometry(ds, ds.scene("scene-0103"), options);
@@ -33,7 +34,8 @@ TEST(AutomotiveOdometry, RealSceneEndToEnd) {
   EXPECT_TRUE(r.problems.empty());
   // Deterministic: a second run gives bit-identical poses.
   const auto again = runAutomotiveOdometry(ds, ds.scene("scene-0103"), options);
-  for (std::size_t i = 0; i < r.estimate.size(); ++i) EXPECT_EQ(r.estimate.poses[i].matrix(), again.estimate.poses[i].matrix());
+  for (std::size_t i = 0; i < r.estimate.size(); ++i)
+    EXPECT_EQ(r.estimate.poses[i].matrix(), again.estimate.poses[i].matrix());
 }
 
 namespace {
@@ -58,7 +60,8 @@ SceneErrors errorsOf(const AutomotiveRunResult& r) {
 /// Runs `options` on `scene`, with `matcher` instead of the method's when given.
 SceneErrors run(const NuScenesDataset& ds, const NuScenesScene& scene, const AutomotiveRunOptions& options,
                 const std::shared_ptr<RadarRegistration>& matcher = nullptr) {
-  return errorsOf(matcher ? runAutomotiveOdometry(ds, scene, options, MatcherAdapter(matcher)) : runAutomotiveOdometry(ds, scene, options));
+  return errorsOf(matcher ? runAutomotiveOdometry(ds, scene, options, MatcherAdapter(matcher))
+                          : runAutomotiveOdometry(ds, scene, options));
 }
 }  // namespace
 
@@ -67,7 +70,8 @@ SceneErrors run(const NuScenesDataset& ds, const NuScenesScene& scene, const Aut
 // cannot pass the same bounds. Every scene in the dataroot is used, not named ones.
 TEST(AutomotiveOdometry, MatchAddsInformationBeyondTheDopplerIntegralOnRealScenes) {
   const std::string root = std::string(RADAR_NDT_SHARED_DATA) + "/nuscenes-mini-radar";
-  if (!std::filesystem::exists(root + "/v1.0-mini/sensor.json")) GTEST_SKIP() << "no " << root << ": skipping the real-data check";
+  if (!std::filesystem::exists(root + "/v1.0-mini/sensor.json"))
+    GTEST_SKIP() << "no " << root << ": skipping the real-data check";
   const NuScenesDataset ds(root);
   const AutomotiveRunOptions ours;
   const AutomotiveRunOptions doppler = withMethod(AutomotiveRunOptions(), Method::Doppler);
@@ -75,8 +79,8 @@ TEST(AutomotiveOdometry, MatchAddsInformationBeyondTheDopplerIntegralOnRealScene
   std::size_t n = 0;
   for (const auto& scene : ds.scenes()) {
     const SceneErrors o = run(ds, scene, ours), d = run(ds, scene, doppler);
-    std::printf("%s: ours %.3f %% %.4f deg/m ATE %.3f m; Doppler %.3f %% %.4f deg/m ATE %.3f m\n", scene.name.c_str(), o.trans, o.rot,
-                o.ate, d.trans, d.rot, d.ate);
+    std::printf("%s: ours %.3f %% %.4f deg/m ATE %.3f m; Doppler %.3f %% %.4f deg/m ATE %.3f m\n", scene.name.c_str(),
+                o.trans, o.rot, o.ate, d.trans, d.rot, d.ate);
     // Per scene: ATE at most 0.6x the Doppler integral's (measured 0.16-0.39x on the shared scenes).
     EXPECT_LT(o.ate, 0.6 * d.ate) << scene.name;
     // The translation is essentially the Doppler integral's (the match's is 3x noisier per cycle):
@@ -102,7 +106,8 @@ TEST(AutomotiveOdometry, OneRadarCarRunsOnTheNonholonomicEgoVelocity) {
   // Only the front radar: its Doppler sees 2 of the 3 velocity components, so every cycle's
   // ego-velocity takes vy = 0 (before, every cycle was invalid and the run stood still: ~90 %).
   const std::string root = std::string(RADAR_NDT_SHARED_DATA) + "/nuscenes-mini-radar";
-  if (!std::filesystem::exists(root + "/v1.0-mini/sensor.json")) GTEST_SKIP() << "no " << root << ": skipping the real-data check";
+  if (!std::filesystem::exists(root + "/v1.0-mini/sensor.json"))
+    GTEST_SKIP() << "no " << root << ": skipping the real-data check";
   const NuScenesDataset ds(root);
   AutomotiveRunOptions options;
   options.sequence.channels = {"RADAR_FRONT"};
@@ -124,7 +129,8 @@ TEST(AutomotiveOdometry, OneRadarCarRunsOnTheNonholonomicEgoVelocity) {
 
 TEST(AutomotiveOdometry, UnreadableSweepCostsOnlyThatSweep) {
   const std::string root = std::string(RADAR_NDT_SHARED_DATA) + "/nuscenes-mini-radar";
-  if (!std::filesystem::exists(root + "/v1.0-mini/sensor.json")) GTEST_SKIP() << "no " << root << ": skipping the real-data check";
+  if (!std::filesystem::exists(root + "/v1.0-mini/sensor.json"))
+    GTEST_SKIP() << "no " << root << ": skipping the real-data check";
   // A copy of the tables with the real sweep folders linked, and one sweep replaced by garbage.
   namespace fs = std::filesystem;
   const std::string copy = ::testing::TempDir() + "radar_ndt_odo_root";
@@ -242,7 +248,8 @@ TEST(AutomotiveOdometry, FaultsCostOnlyTheirNeighbourhood) {
   std::size_t silent_last = kSilent;
   while (silent_last + 1 < clean_seq.size() && clean_seq.timestamp(silent_last + 1) <= silent_to) ++silent_last;
   std::vector<bool> near(clean.estimate.size(), false);
-  for (auto [first, last] : {std::pair<std::size_t, std::size_t>{kCorrupt, kCorrupt}, {kMissing, kMissing}, {kSilent, silent_last}})
+  for (auto [first, last] :
+       {std::pair<std::size_t, std::size_t>{kCorrupt, kCorrupt}, {kMissing, kMissing}, {kSilent, silent_last}})
     for (std::size_t k = first - 1; k <= std::min(last + 10, near.size() - 1); ++k) near[k] = true;
   double dt = 0, dyaw = 0;
   for (std::size_t k = 1; k < near.size(); ++k) {
@@ -256,9 +263,11 @@ TEST(AutomotiveOdometry, FaultsCostOnlyTheirNeighbourhood) {
   EXPECT_LT(dt, 0.02) << "m, a cycle outside the faults' neighbourhoods";
   EXPECT_LT(dyaw, 0.1) << "deg, a cycle outside the faults' neighbourhoods";
   const double e_clean = errorsOf(clean).trans, e_faulty = errorsOf(r).trans;
-  EXPECT_LT(std::abs(e_faulty - e_clean), 0.05 * e_clean) << "1m " << e_faulty << " % against the clean run's " << e_clean << " %";
-  std::printf("automotive faults: outside their neighbourhoods the motions move by at most %.4f m and %.4f deg; 1m %.3f %% "
-              "against %.3f %% clean\n",
-              dt, dyaw, e_faulty, e_clean);
+  EXPECT_LT(std::abs(e_faulty - e_clean), 0.05 * e_clean)
+      << "1m " << e_faulty << " % against the clean run's " << e_clean << " %";
+  std::printf(
+      "automotive faults: outside their neighbourhoods the motions move by at most %.4f m and %.4f deg; 1m %.3f %% "
+      "against %.3f %% clean\n",
+      dt, dyaw, e_faulty, e_clean);
   fs::remove_all(dir);
 }

@@ -32,7 +32,8 @@ struct MethodCase {
 };
 
 std::string caseName(const ::testing::TestParamInfo<MethodCase>& info) {
-  std::string name = std::string(info.param.pipeline == Pipeline::Scanning ? "scanning_" : "automotive_") + toString(info.param.method);
+  std::string name = std::string(info.param.pipeline == Pipeline::Scanning ? "scanning_" : "automotive_") +
+                     toString(info.param.method);
   for (char& c : name)
     if (c == '-') c = '_';
   return name;
@@ -75,7 +76,8 @@ class MethodsOnSimulatedSequences : public ::testing::TestWithParam<MethodCase> 
     seq.frames = 20;
     test::writeOxfordProfileSequence(scanning_, sim::builtinDrive(30.0), seq);  // the calibrated simulator
     seq.frames = 130;
-    sim::writeAutomotiveSequence(automotive_, sim::builtinDrive(30.0), sim::WorldOptions(), sim::AutomotiveOptions(), seq);
+    sim::writeAutomotiveSequence(automotive_, sim::builtinDrive(30.0), sim::WorldOptions(), sim::AutomotiveOptions(),
+                                 seq);
     test::copyOxfordSequence(scanning_, faulty_, 14);
     const ScanningSequence s(faulty_, ScanFormat::Oxford);
     std::ofstream(s.path(kCorrupt), std::ios::binary | std::ios::trunc) << "\x89PNG\r\n\x1a\n";
@@ -86,7 +88,8 @@ class MethodsOnSimulatedSequences : public ::testing::TestWithParam<MethodCase> 
   static constexpr std::size_t kCorrupt = 10;
   static std::string scanning_, automotive_, faulty_;
 };
-std::string MethodsOnSimulatedSequences::scanning_, MethodsOnSimulatedSequences::automotive_, MethodsOnSimulatedSequences::faulty_;
+std::string MethodsOnSimulatedSequences::scanning_, MethodsOnSimulatedSequences::automotive_,
+    MethodsOnSimulatedSequences::faulty_;
 
 TEST_P(MethodsOnSimulatedSequences, ErrorWithinItsBoundAndFailuresCounted) {
   const MethodCase& c = GetParam();
@@ -125,7 +128,8 @@ TEST_P(MethodsOnSimulatedSequences, ErrorWithinItsBoundAndFailuresCounted) {
     frame = *evaluate(associate(r.ground_truth, r.estimate), {Metric::Frame}).frame;
     fallbacks = r.counters.fallbacks;
   }
-  std::printf("%s: frame %.4f m, %.4f deg, %zu fallbacks\n", caseName({c, 0}).c_str(), frame.trans_err_m, frame.rot_err_deg, fallbacks);
+  std::printf("%s: frame %.4f m, %.4f deg, %zu fallbacks\n", caseName({c, 0}).c_str(), frame.trans_err_m,
+              frame.rot_err_deg, fallbacks);
   EXPECT_LT(frame.trans_err_m, c.max_frame_m);
   EXPECT_LT(frame.rot_err_deg, c.max_frame_deg);
   EXPECT_LE(fallbacks, c.max_fallbacks);

@@ -22,13 +22,16 @@ namespace {
 
 const std::string kDir = std::string(RADAR_NDT_SHARED_DATA) + "/oxford-radar-real";
 
-bool haveData() { return std::filesystem::exists(kDir + "/radar.timestamps"); }
+bool haveData() {
+  return std::filesystem::exists(kDir + "/radar.timestamps");
+}
 
 /// The dataset's motions (its radar odometry, in Oxford's axes x forward, y right), keyed by the
 /// later scan's radar timestamp, in this project's axes (x forward, y left): (x, −y, −yaw).
 std::map<std::int64_t, Pose2> truthByRadarStamp() {
   std::map<std::int64_t, Pose2> m;
-  for (const auto& r : readOxfordRadarOdometry(kDir + "/gt/radar_odometry.csv")) m[r.source_radar] = Pose2(r.x, -r.y, -r.yaw);
+  for (const auto& r : readOxfordRadarOdometry(kDir + "/gt/radar_odometry.csv"))
+    m[r.source_radar] = Pose2(r.x, -r.y, -r.yaw);
   return m;
 }
 
@@ -102,8 +105,10 @@ TEST(OxfordReal, OursAgainstPclAndConstantVelocityOnTheTenRealMotions) {
   const ScanningRunResult ours = run(Method::PwNdt), ndt = run(Method::PclNdt), icp = run(Method::PclIcp);
   const FrameErrors o = frameErrors(ours, false), n = frameErrors(ndt, false), i = frameErrors(icp, false);
   const FrameErrors cv = frameErrors(ours, true);
-  for (const auto& [name, e] : {std::pair<const char*, FrameErrors>{"ours", o}, {"pcl-ndt", n}, {"pcl-icp", i}, {"constant velocity", cv}})
-    std::printf("%-18s frame %.4f m %.4f deg, mean lateral error %+.4f m (%zu motions)\n", name, e.trans, e.rot_deg, e.mean_lateral, e.n);
+  for (const auto& [name, e] :
+       {std::pair<const char*, FrameErrors>{"ours", o}, {"pcl-ndt", n}, {"pcl-icp", i}, {"constant velocity", cv}})
+    std::printf("%-18s frame %.4f m %.4f deg, mean lateral error %+.4f m (%zu motions)\n", name, e.trans, e.rot_deg,
+                e.mean_lateral, e.n);
   ASSERT_EQ(o.n, 10u);
   // Absolute: measured 0.070 m and 0.102 deg per frame (2 m steps).
   EXPECT_LT(o.trans, 0.10);

@@ -9,12 +9,12 @@
 
 #include <gtest/gtest.h>
 
-#include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/evaluation/metrics.h"
-#include "radar_ndt/odometry/scanning_odometry.h"
-#include "radar_ndt/sim/radar_sim.h"
-#include "radar_ndt/pipeline/scanning_run.h"
+#include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/evaluation/top_view_map.h"
+#include "radar_ndt/odometry/scanning_odometry.h"
+#include "radar_ndt/pipeline/scanning_run.h"
+#include "radar_ndt/sim/radar_sim.h"
 #include "test_support.h"
 
 using namespace radar_ndt;
@@ -154,14 +154,15 @@ class ScanningFaults : public ::testing::Test {
   struct Change {
     double dt = 0, dyaw = 0, within = 0;
   };
-  static Change change(const ScanningRunResult& clean, const ScanningRunResult& faulty, const ScanningSequence& sequence,
-                       const std::vector<bool>& skip) {
+  static Change change(const ScanningRunResult& clean, const ScanningRunResult& faulty,
+                       const ScanningSequence& sequence, const std::vector<bool>& skip) {
     Change c;
     std::size_t n = 0, ok = 0;
     for (std::size_t k = 1; k < kScans; ++k) {
       if (skip[k]) continue;
       Pose2 a, b;
-      const double t = 1e-6 * static_cast<double>(sequence.stamp(k)), t0 = 1e-6 * static_cast<double>(sequence.stamp(k - 1));
+      const double t = 1e-6 * static_cast<double>(sequence.stamp(k)),
+                   t0 = 1e-6 * static_cast<double>(sequence.stamp(k - 1));
       EXPECT_TRUE(motionAt(clean.estimate, t, t0, &a)) << k;
       EXPECT_TRUE(motionAt(faulty.estimate, t, t0, &b)) << k;
       const Pose2 d = between(a, b);
@@ -223,10 +224,13 @@ TEST_F(ScanningFaults, EachIsReportedWithItsFileAndTheRunKeepsItsAccuracy) {
     return evaluate(associate(x.ground_truth, x.estimate), {Metric::Kitti}).kitti->trans_err_pct;
   };
   const double e_clean = kitti(clean), e_faulty = kitti(r);
-  EXPECT_LT(std::abs(e_faulty - e_clean), 0.05 * e_clean) << "KITTI " << e_faulty << " % against the clean run's " << e_clean << " %";
-  std::printf("faults: outside their neighbourhoods %.0f %% of the frames move within 2 cm and 0.1 deg, the largest change %.4f m "
-              "and %.4f deg; KITTI %.3f %% against %.3f %% clean\n",
-              100.0 * c.within, c.dt, c.dyaw, e_faulty, e_clean);
+  EXPECT_LT(std::abs(e_faulty - e_clean), 0.05 * e_clean)
+      << "KITTI " << e_faulty << " % against the clean run's " << e_clean << " %";
+  std::printf(
+      "faults: outside their neighbourhoods %.0f %% of the frames move within 2 cm and 0.1 deg, the largest change "
+      "%.4f m "
+      "and %.4f deg; KITTI %.3f %% against %.3f %% clean\n",
+      100.0 * c.within, c.dt, c.dyaw, e_faulty, e_clean);
 }
 
 TEST_F(ScanningFaults, ThePapersConfigurationMeetsTheCleanRunAgain) {
@@ -249,8 +253,11 @@ TEST_F(ScanningFaults, ThePapersConfigurationMeetsTheCleanRunAgain) {
     for (std::size_t k = f - 1; k <= f + 2; ++k) settling[k] = true;
   settling[kDuplicate] = true;
   const Change c = change(clean, r, sequence, settling);
-  EXPECT_LT(c.dt + 10.0 * c.dyaw * kPi / 180.0, 2e-3) << "from the third frame after each fault: 1 mm + 10 m x 0.1 mrad";
-  std::printf("paper configuration: from the third frame after each fault the motions move by at most %.2e m, %.2e deg\n", c.dt, c.dyaw);
+  EXPECT_LT(c.dt + 10.0 * c.dyaw * kPi / 180.0, 2e-3)
+      << "from the third frame after each fault: 1 mm + 10 m x 0.1 mrad";
+  std::printf(
+      "paper configuration: from the third frame after each fault the motions move by at most %.2e m, %.2e deg\n", c.dt,
+      c.dyaw);
 }
 
 TEST_F(ScanningPipeline, DeterministicRunToRunAndWithOrWithoutTheDecodeThread) {
@@ -268,12 +275,12 @@ TEST_F(ScanningPipeline, DeterministicRunToRunAndWithOrWithoutTheDecodeThread) {
     ASSERT_EQ(other->estimate.size(), a.estimate.size());
     for (std::size_t i = 0; i < a.estimate.size(); ++i) {
       EXPECT_EQ(a.estimate.stamps[i], other->estimate.stamps[i]);
-      EXPECT_EQ(0, std::memcmp(a.estimate.poses[i].matrix().data(), other->estimate.poses[i].matrix().data(), sizeof(double) * 16))
+      EXPECT_EQ(0, std::memcmp(a.estimate.poses[i].matrix().data(), other->estimate.poses[i].matrix().data(),
+                               sizeof(double) * 16))
           << "pose " << i << " differs in its bits";
     }
   }
 }
-
 
 TEST(ScanningPipelineFastTurn, MotionCompensationHelps) {
   const std::string dir = test::freshTempDir("scanning_turn");
@@ -294,20 +301,22 @@ TEST(ScanningPipelineFastTurn, MotionCompensationHelps) {
 
 TEST(ScanningPipelineRadiate, RealScansArePlausible) {
   const std::string dir = std::string(RADAR_NDT_SHARED_DATA) + "/radiate-tiny-foggy";
-  if (!std::filesystem::exists(dir + "/Navtech_Polar.txt")) GTEST_SKIP() << "no " << dir << ": skipping the real-scan check";
+  if (!std::filesystem::exists(dir + "/Navtech_Polar.txt"))
+    GTEST_SKIP() << "no " << dir << ": skipping the real-scan check";
   const ScanningSequence sequence(dir, ScanFormat::Radiate);
   std::vector<pcl::PointCloud<PointRadar>> clouds;
-  const ScanningRunResult r = runScanningOdometry(sequence, ScanningRunOptions(), nullptr,
-                                                  [&](std::size_t, const OdometryStep&, const pcl::PointCloud<PointRadar>& c) { clouds.push_back(c); });
+  const ScanningRunResult r = runScanningOdometry(
+      sequence, ScanningRunOptions(), nullptr,
+      [&](std::size_t, const OdometryStep&, const pcl::PointCloud<PointRadar>& c) { clouds.push_back(c); });
   ASSERT_EQ(r.steps.size(), sequence.size());
   EXPECT_TRUE(r.problems.empty());
   EXPECT_LE(r.counters.fallbacks, 1u) << "no fallback storm";
   for (std::size_t k = 1; k < r.steps.size(); ++k) {
     const double dt = 1e-6 * static_cast<double>(r.steps[k].timestamp_us - r.steps[k - 1].timestamp_us);
     const Eigen::Vector3d v = velocityOf(r.steps[k].motion, dt);
-    EXPECT_LT(v.head<2>().norm(), 40.0) << "scan " << k;   // m/s: a car in town
-    EXPECT_LT(std::abs(v.y()), 1.5) << "scan " << k;        // no sideways slide
-    EXPECT_LT(std::abs(v.z()), 1.0) << "scan " << k;        // rad/s
+    EXPECT_LT(v.head<2>().norm(), 40.0) << "scan " << k;  // m/s: a car in town
+    EXPECT_LT(std::abs(v.y()), 1.5) << "scan " << k;      // no sideways slide
+    EXPECT_LT(std::abs(v.z()), 1.0) << "scan " << k;      // rad/s
     if (k >= 2) {
       const double dt0 = 1e-6 * static_cast<double>(r.steps[k - 1].timestamp_us - r.steps[k - 2].timestamp_us);
       const Eigen::Vector3d v0 = velocityOf(r.steps[k - 1].motion, dt0);

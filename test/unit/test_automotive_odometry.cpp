@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/odometry/automotive_odometry.h"
+#include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/se2.h"
 
 using namespace radar_ndt;
@@ -128,7 +128,8 @@ TEST(AutomotiveOdometry, AGuessReturningMatcherAddsNothingToTheDopplerIntegral) 
       doppler.add(constantCycle(k * 75000, v));
     }
     EXPECT_EQ(matched.counters().matched, 19u);
-    EXPECT_TRUE(matched.steps().back().pose.isApprox(doppler.steps().back().pose, 1e-6)) << (paper ? "paper" : "default");
+    EXPECT_TRUE(matched.steps().back().pose.isApprox(doppler.steps().back().pose, 1e-6))
+        << (paper ? "paper" : "default");
     EXPECT_NEAR(matched.steps().back().yaw_rate_bias, 0.0, 1e-6);
   }
 }
@@ -237,7 +238,6 @@ TEST(AutomotiveOdometry, InvalidVelocityReusesTheLastOne) {
   EXPECT_EQ(odo.counters().stale_velocity, 1u);
   EXPECT_NEAR(odo.steps().back().pose.x(), 0.5, 1e-9);
 }
-
 
 TEST(AutomotiveOdometry, KeepsNoPointerToTheCallersCloud) {
   // The submap copies each cycle's points: after add() returns, the caller's cloud is its own.

@@ -4,8 +4,8 @@
 // cases per reader live beside each reader's own tests (test_trajectory_io, test_nuscenes,
 // test_polar_scan); this file holds the ones a single table covers across readers.
 #include <cmath>
-#include <filesystem>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <vector>
@@ -16,17 +16,19 @@
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/nuscenes_writer.h"
-#include "radar_ndt/pipeline/scanning_sequence.h"
 #include "radar_ndt/io/pcd.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/pipeline/scanning_sequence.h"
 #include "test_support.h"
 
 using namespace radar_ndt;
 
 namespace {
 
-void writeAll(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes; }
+void writeAll(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
 
 /// A small valid 8-bit grayscale PNG (width × height), as bytes.
 std::string smallPng(const std::string& dir, int width, int height) {
@@ -79,7 +81,8 @@ TEST(BadInput, EveryReaderNamesTheFileAndTheProblem) {
   const std::string dir = test::freshTempDir("bad_input");
   const std::string png = smallPng(dir, 40, 16);
   const std::string csv_header =
-      "source_timestamp,destination_timestamp,x,y,z,roll,pitch,yaw,source_radar_timestamp,destination_radar_timestamp\n";
+      "source_timestamp,destination_timestamp,x,y,z,roll,pitch,yaw,source_radar_timestamp,destination_radar_"
+      "timestamp\n";
   const std::vector<BadFile> cases = {
       // Polar PNGs: not PNG, truncated, a header declaring more pixels than the file can hold
       // (refused before the image is allocated), absurd sizes.
@@ -95,10 +98,12 @@ TEST(BadInput, EveryReaderNamesTheFileAndTheProblem) {
       {"radar.timestamps", "dup.timestamps", "1547120000000000 1\n1547120000000000 1\n", "duplicated timestamp"},
       {"radar.timestamps", "words.timestamps", "1547120000000000 1\nnot a number\n", ":2"},
       {"radar.timestamps", "huge.timestamps", "99999999999999999999999 1\n", "cannot parse timestamp"},
-      {"Navtech_Polar.txt", "dup.txt", "Frame: 000001 Time: 1574859771.744660272\nFrame: 000002 Time: 1574859771.744660272\n",
-       "duplicated frame time"},
-      {"Navtech_Polar.txt", "backwards.txt", "Frame: 000001 Time: 1574859771.9\nFrame: 000002 Time: 1574859771.5\n", "out of order"},
-      {"Navtech_Polar.txt", "overflow.txt", "Frame: 000001 Time: 157485977192577.5\n", "out of range"},  // fuzz: UB before
+      {"Navtech_Polar.txt", "dup.txt",
+       "Frame: 000001 Time: 1574859771.744660272\nFrame: 000002 Time: 1574859771.744660272\n", "duplicated frame time"},
+      {"Navtech_Polar.txt", "backwards.txt", "Frame: 000001 Time: 1574859771.9\nFrame: 000002 Time: 1574859771.5\n",
+       "out of order"},
+      {"Navtech_Polar.txt", "overflow.txt", "Frame: 000001 Time: 157485977192577.5\n",
+       "out of range"},  // fuzz: UB before
       {"Navtech_Polar.txt", "frame.txt", "Frame: 12345678 Time: 1574859771.5\n", "outside 0..999999"},
       {"Navtech_Polar.txt", "layout.txt", "1574859771.5\n", "expected 'Frame:"},
       {"radar_odometry.csv", "nan.csv", csv_header + "2,1,nan,0,0,0,0,0.01,2,1\n", "not finite"},
@@ -110,13 +115,17 @@ TEST(BadInput, EveryReaderNamesTheFileAndTheProblem) {
       {"point_radar_pcd", "empty.pcd", "", "empty file"},
       {"point_radar_pcd", "text.pcd", "hello\n", "not a PCD file"},
       {"point_radar_pcd", "no_y.pcd",
-       "VERSION 0.7\nFIELDS x z\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\nWIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2\n", "no field 'y'"},
+       "VERSION 0.7\nFIELDS x z\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\nWIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2\n",
+       "no field 'y'"},
       {"point_radar_pcd", "huge.pcd",
-       "VERSION 0.7\nFIELDS x y\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\nWIDTH 2147483648\nHEIGHT 1\nPOINTS 2147483648\nDATA binary\n12345678",
+       "VERSION 0.7\nFIELDS x y\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\nWIDTH 2147483648\nHEIGHT 1\nPOINTS 2147483648\nDATA "
+       "binary\n12345678",
        "2147483648 points"},
       {"point_radar_pcd", "truncated.pcd",
-       "VERSION 0.7\nFIELDS x y\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\nWIDTH 4\nHEIGHT 1\nPOINTS 4\nDATA binary\n12345678", "truncated"},
-      {"point_radar_pcd", "short_line.pcd", std::string(kPcdHeader) + "1 2 3 1\n1 2 3\n1 2 3 1\n", "3 values, the header declares 4"},
+       "VERSION 0.7\nFIELDS x y\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\nWIDTH 4\nHEIGHT 1\nPOINTS 4\nDATA binary\n12345678",
+       "truncated"},
+      {"point_radar_pcd", "short_line.pcd", std::string(kPcdHeader) + "1 2 3 1\n1 2 3\n1 2 3 1\n",
+       "3 values, the header declares 4"},
       // Trajectories.
       {"trajectory", "nan.txt", "1 0 0 nan 0 1 0 0 0 0 1 0\n", "non-finite"},
       {"trajectory", "binary.txt", std::string("\x00\x01\x02\x03", 4), "binary data"},
@@ -130,7 +139,8 @@ TEST(BadInput, EveryReaderNamesTheFileAndTheProblem) {
     } catch (const IoError& e) {
       const std::string what = e.what();
       EXPECT_NE(what.find(path), std::string::npos) << c.reader << ": " << what;
-      EXPECT_NE(what.find(c.fragment), std::string::npos) << c.reader << " on " << c.name << ": '" << what << "' lacks '" << c.fragment << "'";
+      EXPECT_NE(what.find(c.fragment), std::string::npos)
+          << c.reader << " on " << c.name << ": '" << what << "' lacks '" << c.fragment << "'";
     } catch (const std::exception& e) {
       ADD_FAILURE() << c.reader << " on " << c.name << " threw a non-IoError: " << e.what();
     }
@@ -169,7 +179,9 @@ TEST(BadInput, PointFilesDropAndCountNonFinitePointsAndReadEmptyScans) {
   EXPECT_EQ(dropped, 2u) << "NaN, and a value beyond float's range";
   EXPECT_FLOAT_EQ(cloud[0].power, 0.5f);
   const std::string empty = dir + "/empty_scan.pcd";
-  writeAll(empty, "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 0\nHEIGHT 1\nPOINTS 0\nDATA binary\n");
+  writeAll(
+      empty,
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 0\nHEIGHT 1\nPOINTS 0\nDATA binary\n");
   EXPECT_TRUE(loadPointRadarPcd(empty).empty());
   // The PointRadar round trip still holds with our reader (binary and ascii).
   pcl::PointCloud<PointRadar> c;
@@ -224,7 +236,8 @@ TEST(BadInput, DatasetsCannotPointTheReaderOutsideTheirFolder) {
   };
   tables("samples/RADAR_FRONT/a.pcd");
   ASSERT_NO_THROW(NuScenesDataset ds(root));
-  for (const std::string bad : {"../outside.pcd", "samples/../../outside.pcd", "/etc/passwd", "samples/RADAR_FRONT/../../../x.pcd"}) {
+  for (const std::string bad :
+       {"../outside.pcd", "samples/../../outside.pcd", "/etc/passwd", "samples/RADAR_FRONT/../../../x.pcd"}) {
     tables(bad);
     try {
       NuScenesDataset ds(root);
@@ -240,7 +253,8 @@ TEST(BadInput, DatasetsCannotPointTheReaderOutsideTheirFolder) {
   // Oxford and RADIATE: the scan files are named from the index's numbers, so no index line can
   // name a file outside the sequence folder; lines that are not numbers are left out and reported.
   const std::string ox = test::freshTempDir("escape_oxford");
-  writeAll(ox + "/radar.timestamps", "../../etc/passwd 1\n1547120000000000 1\n1547120000250000/../../x 1\n/tmp/x 1\n1547120000500000 1\n");
+  writeAll(ox + "/radar.timestamps",
+           "../../etc/passwd 1\n1547120000000000 1\n1547120000250000/../../x 1\n/tmp/x 1\n1547120000500000 1\n");
   const ScanningSequence oxford(ox, ScanFormat::Oxford);
   ASSERT_EQ(oxford.size(), 2u);
   EXPECT_EQ(oxford.indexProblems().size(), 3u);
@@ -249,11 +263,13 @@ TEST(BadInput, DatasetsCannotPointTheReaderOutsideTheirFolder) {
     EXPECT_EQ(oxford.path(k).find(".."), std::string::npos) << oxford.path(k);
   }
   const std::string ra = test::freshTempDir("escape_radiate");
-  writeAll(ra + "/Navtech_Polar.txt",
-           "Frame: ../../x Time: 1574859771.5\nFrame: 000001 Time: 1574859771.75\nFrame: /etc/passwd Time: 1574859772.0\n"
-           "Frame: 000002 Time: 1574859772.0\n");
+  writeAll(
+      ra + "/Navtech_Polar.txt",
+      "Frame: ../../x Time: 1574859771.5\nFrame: 000001 Time: 1574859771.75\nFrame: /etc/passwd Time: 1574859772.0\n"
+      "Frame: 000002 Time: 1574859772.0\n");
   const ScanningSequence radiate(ra, ScanFormat::Radiate);
   ASSERT_EQ(radiate.size(), 2u);
   EXPECT_EQ(radiate.indexProblems().size(), 2u);
-  for (std::size_t k = 0; k < radiate.size(); ++k) EXPECT_EQ(radiate.path(k).rfind(ra + "/Navtech_Polar/", 0), 0u) << radiate.path(k);
+  for (std::size_t k = 0; k < radiate.size(); ++k)
+    EXPECT_EQ(radiate.path(k).rfind(ra + "/Navtech_Polar/", 0), 0u) << radiate.path(k);
 }

@@ -29,7 +29,8 @@ TEST(DopplerOutlierRemoval, IsAPclFilterWithNegative) {
   f.filter(removed);
   EXPECT_EQ(kept.size(), 150u);
   EXPECT_EQ(removed.size(), 50u);
-  for (const auto& p : removed) EXPECT_GT(std::abs(p.doppler - predictedDoppler(nuScenesLikeMountings()[p.sensor_id], p.x, p.y, v)), 2.0);
+  for (const auto& p : removed)
+    EXPECT_GT(std::abs(p.doppler - predictedDoppler(nuScenesLikeMountings()[p.sensor_id], p.x, p.y, v)), 2.0);
   // Through the base class, as PCL users compose filters.
   pcl::Filter<PointRadar>::Ptr base = pcl::make_shared<DopplerOutlierRemoval<PointRadar>>(f);
   pcl::PointCloud<PointRadar> again;

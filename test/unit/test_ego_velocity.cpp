@@ -10,8 +10,8 @@
 
 #include "radar_ndt/frontend/doppler_outlier_removal.h"
 #include "radar_ndt/frontend/ego_velocity.h"
-#include "radar_ndt/pipeline/nuscenes_sequence.h"
 #include "radar_ndt/frontend/radar_cycle.h"
+#include "radar_ndt/pipeline/nuscenes_sequence.h"
 #include "radar_ndt/se2.h"
 
 #include "doppler_support.h"
@@ -123,7 +123,8 @@ TEST(EgoVelocity, OneRadarFallsBackToTheNonholonomicModel) {
 TEST(EgoVelocity, RealSweepsAgreeWithGroundTruthSpeed) {
   // All radars of each cycle (the full model), and the front radar alone (the nonholonomic one).
   const std::string root = std::string(RADAR_NDT_SHARED_DATA) + "/nuscenes-mini-radar";
-  if (!std::filesystem::exists(root + "/v1.0-mini/sensor.json")) GTEST_SKIP() << "no " << root << ": skipping the real-data check";
+  if (!std::filesystem::exists(root + "/v1.0-mini/sensor.json"))
+    GTEST_SKIP() << "no " << root << ": skipping the real-data check";
   const NuScenesDataset ds(root);
   const AutomotiveFrontEnd fe;
   auto median = [](std::vector<double> v) {
@@ -158,7 +159,7 @@ TEST(EgoVelocity, RealSweepsAgreeWithGroundTruthSpeed) {
     // same 0.025-0.039 on 0796 and 1077, whose ground truth turns less than every method).
     EXPECT_LT(median(one_speed_err), 0.3) << scene.name;
     EXPECT_LT(median(one_rate_err), 0.05) << scene.name;
-    std::printf("%s: median |speed error| %.3f m/s; front radar alone %.3f m/s, |yaw-rate error| %.4f rad/s\n", scene.name.c_str(),
-                median(err), median(one_speed_err), median(one_rate_err));
+    std::printf("%s: median |speed error| %.3f m/s; front radar alone %.3f m/s, |yaw-rate error| %.4f rad/s\n",
+                scene.name.c_str(), median(err), median(one_speed_err), median(one_rate_err));
   }
 }

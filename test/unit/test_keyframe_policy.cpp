@@ -23,7 +23,8 @@ TEST(KeyframePolicy, AMatchedScanFarEnoughOrTurnedEnoughReplacesTheKeyframe) {
 TEST(KeyframePolicy, OneFailedScanIsNeverTheTargetTwoInARowAre) {
   KeyframePolicy policy;
   policy.reset(Pose2::Zero(), 0);
-  EXPECT_FALSE(policy.replaceAfter(false, Pose2(30.0, 0.0, 0.0), true)) << "one failure: maybe a corrupt or all-noise scan";
+  EXPECT_FALSE(policy.replaceAfter(false, Pose2(30.0, 0.0, 0.0), true))
+      << "one failure: maybe a corrupt or all-noise scan";
   EXPECT_TRUE(policy.replaceAfter(false, Pose2(31.0, 0.0, 0.0), true)) << "two in a row: the keyframe no longer fits";
   EXPECT_FALSE(policy.replaceAfter(true, Pose2(1.0, 0.0, 0.0), true)) << "a match resets the count";
   EXPECT_FALSE(policy.replaceAfter(false, Pose2(1.0, 0.0, 0.0), true));

@@ -32,8 +32,7 @@ TEST(Matcher, TheFactoryBuildsEachMethodWithItsSettings) {
   EXPECT_EQ(ndt->getCellLookup(), CellLookup::Neighbours);
   MatcherOptions o;
   o.ours.cell_lookup = CellLookup::OverlappingGrids;
-  EXPECT_EQ(dynamic_cast<Ours*>(&makeMatcher(o, 3.0).registration())->getCellLookup(),
-            CellLookup::OverlappingGrids);
+  EXPECT_EQ(dynamic_cast<Ours*>(&makeMatcher(o, 3.0).registration())->getCellLookup(), CellLookup::OverlappingGrids);
 
   const MatcherAdapter pcl_ndt = makeMatcher(Method::PclNdt, 2.5);
   auto* p = dynamic_cast<PclNdt*>(&pcl_ndt.registration());

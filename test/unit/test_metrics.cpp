@@ -6,9 +6,9 @@
 #include <map>
 #include <string>
 
+#include "radar_ndt/evaluation/metrics.h"
 #include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/io/trajectory_io.h"
-#include "radar_ndt/evaluation/metrics.h"
 
 using namespace radar_ndt;
 

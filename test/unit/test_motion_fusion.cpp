@@ -32,8 +32,8 @@ TEST(MotionFusion, TwoMeasurementsWithKnownCovariancesGiveTheKnownFusedAnswer) {
   EXPECT_TRUE(prior.covariance.isApprox(cd, 1e-9));
   const MotionEstimate fused = f.update(Pose2(1.1, 0.2, 0.004), cm);
   EXPECT_NEAR(fused.motion.x(), 1.01, 1e-9);
-  EXPECT_NEAR(fused.motion.y(), 0.1, 1e-9);     // equal variances: the mean
-  EXPECT_NEAR(fused.motion.z(), 0.001, 1e-9);   // 1e-6 vs 3e-6: a quarter of the way to the match
+  EXPECT_NEAR(fused.motion.y(), 0.1, 1e-9);    // equal variances: the mean
+  EXPECT_NEAR(fused.motion.z(), 0.001, 1e-9);  // 1e-6 vs 3e-6: a quarter of the way to the match
   EXPECT_NEAR(fused.covariance(0, 0), 1.0 / (1.0 / 1e-4 + 1.0 / 9e-4), 1e-12);
   EXPECT_NEAR(fused.covariance(1, 1), 2e-4, 1e-12);
   EXPECT_NEAR(fused.covariance(2, 2), 0.75e-6, 1e-12);
@@ -61,7 +61,8 @@ TEST(MotionFusion, MatchCovarianceIsTheReportedOneScaledElseTheFixedOne) {
   const Eigen::Matrix3d reported = Eigen::Vector3d(1e-4, 2e-4, 1e-6).asDiagonal();
   EXPECT_TRUE(f.matchCovariance(&reported).isApprox(2.0 * reported));
   const Eigen::Matrix3d fixed = Eigen::Vector3d(o.match_sigma_x * o.match_sigma_x, o.match_sigma_y * o.match_sigma_y,
-                                                o.match_sigma_yaw * o.match_sigma_yaw).asDiagonal();
+                                                o.match_sigma_yaw * o.match_sigma_yaw)
+                                    .asDiagonal();
   EXPECT_TRUE(f.matchCovariance(nullptr).isApprox(fixed));
   const Eigen::Matrix3d nan = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   EXPECT_TRUE(f.matchCovariance(&nan).isApprox(fixed)) << "a matcher without one reports NaN";

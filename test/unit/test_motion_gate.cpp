@@ -21,7 +21,8 @@ TEST(AutomotiveMotionGate, BoundsTheAccelerationThenTestsAgreementWithTheDoppler
   // The bound: 8 m/s² · dt² + 3·√2·5 cm = 0.08 + 0.2121 m from the expected 1.0 m.
   EXPECT_TRUE(gate.accept(Pose2(1.0, 0.0, 0.0), Pose2(1.0, 0.0, 0.0), cov, dt, prior, &chi2));
   EXPECT_EQ(chi2, 0.0);
-  EXPECT_FALSE(gate.accept(Pose2(1.30, 0.0, 0.0), Pose2(1.30, 0.0, 0.0), cov, dt, prior, &chi2)) << "0.30 m off the prior";
+  EXPECT_FALSE(gate.accept(Pose2(1.30, 0.0, 0.0), Pose2(1.30, 0.0, 0.0), cov, dt, prior, &chi2))
+      << "0.30 m off the prior";
   EXPECT_TRUE(std::isinf(chi2));
   EXPECT_TRUE(gate.accept(Pose2(1.28, 0.0, 0.0), Pose2(1.28, 0.0, 0.0), cov, dt, prior, &chi2)) << "0.28 m: within";
   // Chi-square: r = (0.1, 0, 0) with S = diag(1e-4 + 0.0025, …): 0.01 / 0.0026 = 3.85 (under 16.27).

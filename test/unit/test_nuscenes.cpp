@@ -22,13 +22,17 @@ namespace {
 
 const std::string kRoot = std::string(RADAR_NDT_SHARED_DATA) + "/nuscenes-mini-radar";
 
-bool haveData() { return fs::exists(kRoot + "/v1.0-mini/sensor.json"); }
-#define REQUIRE_DATA()                                                                          \
-  if (!haveData()) {                                                                            \
+bool haveData() {
+  return fs::exists(kRoot + "/v1.0-mini/sensor.json");
+}
+#define REQUIRE_DATA()                                                                             \
+  if (!haveData()) {                                                                               \
     GTEST_SKIP() << "no " << kRoot << " (../shared/data is absent): skipping the real-data check"; \
   }
 
-std::string tmp(const std::string& name) { return ::testing::TempDir() + "radar_ndt_nusc_" + name; }
+std::string tmp(const std::string& name) {
+  return ::testing::TempDir() + "radar_ndt_nusc_" + name;
+}
 
 std::string readAll(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -36,7 +40,9 @@ std::string readAll(const std::string& path) {
   s << in.rdbuf();
   return s.str();
 }
-void writeAll(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
+void writeAll(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
 
 /// The first sweep file with at least `min_points` points.
 std::string someSweep(std::size_t min_points) {
@@ -77,7 +83,8 @@ TEST(NuScenesPcd, Ars408RmsTable) {
 TEST(NuScenesPcd, AsciiAnyFieldOrderDopplerFiltersAndRms) {
   const std::string path = tmp("order.pcd");
   // (x, y) = (10, 0) receding at 2 m/s; (0, 5) with vy = −1 (approaching); an invalid cluster.
-  writeAll(path, std::string(kAsciiHeader) + "0 2 0 10 0 5.5 0 3 19 20\n-1 0 5 0 0 -3 0 3 21 21\n0 1 0 20 0 1 1 3 19 19\n");
+  writeAll(path,
+           std::string(kAsciiHeader) + "0 2 0 10 0 5.5 0 3 19 20\n-1 0 5 0 0 -3 0 3 21 21\n0 1 0 20 0 1 1 3 19 19\n");
   NuScenesPcdStats stats;
   const auto c = readNuScenesRadarPcd(path, NuScenesRadarFilter{}, 7, &stats);
   ASSERT_EQ(c.size(), 2u);
@@ -100,7 +107,8 @@ TEST(NuScenesPcd, AsciiAnyFieldOrderDopplerFiltersAndRms) {
 
 TEST(NuScenesPcd, NonFinitePointsAreDroppedAndCounted) {
   const std::string path = tmp("nan.pcd");
-  writeAll(path, std::string(kAsciiHeader) + "0 2 0 10 0 5.5 0 3 19 20\nnan 0 5 0 0 -3 0 3 21 21\n0 1 inf 20 0 1 0 3 19 19\n");
+  writeAll(path, std::string(kAsciiHeader) +
+                     "0 2 0 10 0 5.5 0 3 19 20\nnan 0 5 0 0 -3 0 3 21 21\n0 1 inf 20 0 1 0 3 19 19\n");
   NuScenesPcdStats stats;
   const auto c = readNuScenesRadarPcd(path, NuScenesRadarFilter{}, 0, &stats);
   EXPECT_EQ(c.size(), 1u);
@@ -108,7 +116,8 @@ TEST(NuScenesPcd, NonFinitePointsAreDroppedAndCounted) {
 }
 
 TEST(NuScenesPcd, MalformedFilesNameTheFileAndProblem) {
-  const std::string good = std::string(kAsciiHeader) + "0 2 0 10 0 5.5 0 3 19 20\n-1 0 5 0 0 -3 0 3 21 21\n0 1 0 20 0 1 1 3 19 19\n";
+  const std::string good =
+      std::string(kAsciiHeader) + "0 2 0 10 0 5.5 0 3 19 20\n-1 0 5 0 0 -3 0 3 21 21\n0 1 0 20 0 1 1 3 19 19\n";
   struct Case {
     const char* name;
     std::string bytes;
@@ -124,19 +133,26 @@ TEST(NuScenesPcd, MalformedFilesNameTheFileAndProblem) {
       {"missing_vx.pcd", missing_vx, "no field 'vx'"},
       {"truncated_ascii.pcd", good.substr(0, good.rfind("0 1 0 20")), "truncated: 2 of 3"},
       {"short_line.pcd", short_line, "3 values, the header declares 10"},
-      {"bad_size.pcd", std::string(kAsciiHeader).replace(std::string(kAsciiHeader).find("SIZE 4"), 6, "SIZE 3") + "1\n", "size 3"},
-      {"bad_count.pcd", std::string(kAsciiHeader).replace(std::string(kAsciiHeader).find("POINTS 3"), 8, "POINTS 4") + "1\n", "!= POINTS"},
+      {"bad_size.pcd", std::string(kAsciiHeader).replace(std::string(kAsciiHeader).find("SIZE 4"), 6, "SIZE 3") + "1\n",
+       "size 3"},
+      {"bad_count.pcd",
+       std::string(kAsciiHeader).replace(std::string(kAsciiHeader).find("POINTS 3"), 8, "POINTS 4") + "1\n",
+       "!= POINTS"},
       {"huge.pcd",
-       "VERSION 0.7\nFIELDS x y vx vy\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\nWIDTH 2147483648\nHEIGHT 1\nPOINTS 2147483648\nDATA binary\n1234",
+       "VERSION 0.7\nFIELDS x y vx vy\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\nWIDTH 2147483648\nHEIGHT 1\nPOINTS "
+       "2147483648\nDATA binary\n1234",
        "2147483648 points"},
-      {"unknown_data.pcd", std::string(kAsciiHeader).replace(std::string(kAsciiHeader).find("DATA ascii"), 10, "DATA zip") + "1\n", "unknown DATA format"},
+      {"unknown_data.pcd",
+       std::string(kAsciiHeader).replace(std::string(kAsciiHeader).find("DATA ascii"), 10, "DATA zip") + "1\n",
+       "unknown DATA format"},
   };
   for (const auto& c : cases) {
     const std::string path = tmp(c.name);
     writeAll(path, c.bytes);
     expectIoError([&] { readNuScenesRadarPcd(path, NuScenesRadarFilter{}, 0); }, path, c.fragment);
   }
-  expectIoError([&] { readNuScenesRadarPcd(tmp("does_not_exist.pcd"), NuScenesRadarFilter{}, 0); }, tmp("does_not_exist.pcd"), "no such file");
+  expectIoError([&] { readNuScenesRadarPcd(tmp("does_not_exist.pcd"), NuScenesRadarFilter{}, 0); },
+                tmp("does_not_exist.pcd"), "no such file");
 }
 
 TEST(NuScenesPcd, RealSweepBinaryMatchesAsciiAndCompressedCopies) {
@@ -171,7 +187,8 @@ TEST(NuScenesPcd, RealSweepBinaryMatchesAsciiAndCompressedCopies) {
   expectIoError([&] { readNuScenesRadarPcd(truncated, all, 0); }, truncated, "truncated");
   std::string cbytes = readAll(compressed);
   const std::size_t data = cbytes.find("DATA binary_compressed\n") + 23 + 8;  // after the two size words
-  for (std::size_t i = data; i < data + 16; ++i) cbytes[i] = static_cast<char>(0xff);  // back-references before the start
+  for (std::size_t i = data; i < data + 16; ++i)
+    cbytes[i] = static_cast<char>(0xff);  // back-references before the start
   const std::string corrupt = tmp("corrupt_compressed.pcd");
   writeAll(corrupt, cbytes);
   expectIoError([&] { readNuScenesRadarPcd(corrupt, all, 0); }, corrupt, "binary_compressed");

@@ -35,7 +35,7 @@ TEST(NuScenesWriter, ADatarootReadsBackWithEveryValue) {
   points[0].y_rms = static_cast<std::int8_t>(ars408RmsIndex(0.5));
   points[1].x = 0.f;
   points[1].y = 20.f;
-  points[1].vy = 2.f;  // receding: +2 m/s
+  points[1].vy = 2.f;           // receding: +2 m/s
   points[1].invalid_state = 1;  // an invalid cluster: the default filter drops it
   const std::string pcd = "samples/RADAR_FRONT/test__RADAR_FRONT__1000.pcd";
   writeNuScenesRadarPcd(dir + "/" + pcd, points);
@@ -46,7 +46,8 @@ TEST(NuScenesWriter, ADatarootReadsBackWithEveryValue) {
   tables.addSample("sample0", 1000, "", "", "scene0");
   tables.addSensor("sensor0", "RADAR_FRONT", "radar");
   const double yaw = 0.3;
-  tables.addCalibratedSensor("calib0", "sensor0", {3.4, 0.1, 0.5}, {std::cos(0.5 * yaw), 0.0, 0.0, std::sin(0.5 * yaw)});
+  tables.addCalibratedSensor("calib0", "sensor0", {3.4, 0.1, 0.5},
+                             {std::cos(0.5 * yaw), 0.0, 0.0, std::sin(0.5 * yaw)});
   tables.addEgoPose("ego0", 1000, {1.0, 0.0, 0.0, 0.0}, {100.0, -50.0, 0.0});
   tables.addSampleData("data0", "sample0", "ego0", "calib0", 1000, true, pcd, "", "");
   tables.write(dir + "/v1.0-test");

@@ -46,7 +46,9 @@ void expectSame(const pcl::PointCloud<PointRadar>& a, const pcl::PointCloud<Poin
   }
 }
 
-std::string tmpPath(const std::string& name) { return ::testing::TempDir() + "radar_ndt_" + name; }
+std::string tmpPath(const std::string& name) {
+  return ::testing::TempDir() + "radar_ndt_" + name;
+}
 }  // namespace
 
 TEST(PointRadar, DefaultsArePowerOneAndNoCovariance) {
@@ -75,7 +77,8 @@ TEST(PointRadar, RoundTripsThroughPclAsciiPcd) {
   expectSame(cloud, back, 1e-5f);
   std::ifstream in(path);
   std::string header((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_NE(header.find("FIELDS x y z power rcs cov_xx cov_xy cov_yy doppler time_offset sensor_id"), std::string::npos);
+  EXPECT_NE(header.find("FIELDS x y z power rcs cov_xx cov_xy cov_yy doppler time_offset sensor_id"),
+            std::string::npos);
   std::remove(path.c_str());
 }
 

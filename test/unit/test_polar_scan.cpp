@@ -48,15 +48,16 @@ std::string pngChunk(const std::string& type, const std::string& data) {
   be32(static_cast<std::uint32_t>(data.size()));
   const std::string body = type + data;
   out += body;
-  be32(static_cast<std::uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))));
+  be32(static_cast<std::uint32_t>(
+      crc32(0L, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))));
   return out;
 }
 
 /// A PNG as another tool might write it: `samples` is width × height pixels of `bytes_per_pixel`
 /// bytes each, stored with `bit_depth`/`color_type`, `extra` chunks (gAMA, PLTE, ...) before the
 /// data, optionally Adam7-interlaced. Every row uses filter 0.
-std::string buildPng(int width, int height, int bit_depth, int color_type, int bytes_per_pixel, const std::vector<std::uint8_t>& samples,
-                     const std::string& extra = "", bool adam7 = false) {
+std::string buildPng(int width, int height, int bit_depth, int color_type, int bytes_per_pixel,
+                     const std::vector<std::uint8_t>& samples, const std::string& extra = "", bool adam7 = false) {
   std::string ihdr;
   for (std::uint32_t v : {static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height)})
     for (int i = 3; i >= 0; --i) ihdr.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
@@ -66,10 +67,13 @@ std::string buildPng(int width, int height, int bit_depth, int color_type, int b
     if (x0 >= width) return;
     raw.push_back(0);
     for (int x = x0; x < width; x += dx)
-      raw.append(reinterpret_cast<const char*>(samples.data()) + (static_cast<std::size_t>(y) * width + x) * bytes_per_pixel, bytes_per_pixel);
+      raw.append(
+          reinterpret_cast<const char*>(samples.data()) + (static_cast<std::size_t>(y) * width + x) * bytes_per_pixel,
+          bytes_per_pixel);
   };
   if (adam7) {
-    const int pass[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4}, {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}};
+    const int pass[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4},
+                            {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}};
     for (const auto& p : pass)
       for (int y = p[1]; y < height; y += p[3]) addRow(y, p[0], p[2]);
   } else {
@@ -77,9 +81,12 @@ std::string buildPng(int width, int height, int bit_depth, int color_type, int b
   }
   uLongf size = compressBound(static_cast<uLong>(raw.size()));
   std::string z(size, '\0');
-  EXPECT_EQ(compress(reinterpret_cast<Bytef*>(&z[0]), &size, reinterpret_cast<const Bytef*>(raw.data()), static_cast<uLong>(raw.size())), Z_OK);
+  EXPECT_EQ(compress(reinterpret_cast<Bytef*>(&z[0]), &size, reinterpret_cast<const Bytef*>(raw.data()),
+                     static_cast<uLong>(raw.size())),
+            Z_OK);
   z.resize(size);
-  return std::string("\x89PNG\r\n\x1a\n", 8) + pngChunk("IHDR", ihdr) + extra + pngChunk("IDAT", z) + pngChunk("IEND", "");
+  return std::string("\x89PNG\r\n\x1a\n", 8) + pngChunk("IHDR", ihdr) + extra + pngChunk("IDAT", z) +
+         pngChunk("IEND", "");
 }
 
 /// A small Oxford-format scan with known content.
@@ -115,7 +122,8 @@ TEST(PolarConvention, OxfordAzimuthsTurnClockwiseFromTheFront) {
 }
 
 TEST(RadiatePolar, RealScansHaveTheDatasetLayout) {
-  if (!fs::exists(kRadiate + "/Navtech_Polar.txt")) GTEST_SKIP() << "no " << kRadiate << " (../shared/data is absent): skipping the real-data check";
+  if (!fs::exists(kRadiate + "/Navtech_Polar.txt"))
+    GTEST_SKIP() << "no " << kRadiate << " (../shared/data is absent): skipping the real-data check";
   const auto frames = readRadiateFrameTimes(kRadiate + "/Navtech_Polar.txt");
   ASSERT_GE(frames.size(), 18u);
   EXPECT_EQ(frames[0].frame, 1);
@@ -290,7 +298,9 @@ TEST(OxfordSequenceFiles, TimestampsAndOdometryCsvErrors) {
   expectIoError([&] { readOxfordTimestamps(ts); }, ts, ":2");
 
   const std::string csv = dir + "/radar_odometry.csv";
-  const std::string header = "source_timestamp,destination_timestamp,x,y,z,roll,pitch,yaw,source_radar_timestamp,destination_radar_timestamp\n";
+  const std::string header =
+      "source_timestamp,destination_timestamp,x,y,z,roll,pitch,yaw,source_radar_timestamp,destination_radar_"
+      "timestamp\n";
   writeText(csv, "source_timestamp,destination_timestamp,x,y,z,roll,pitch\n");
   expectIoError([&] { readOxfordRadarOdometry(csv); }, csv, "no column 'yaw'");
   writeText(csv, header + "2,1,0.5,0,0,0,0,0.01,2,1\n4,3,0.5,0,0,0,0,0.01,4,3\n");
@@ -310,4 +320,3 @@ TEST(OxfordSequenceFiles, TimestampsAndOdometryCsvErrors) {
   EXPECT_DOUBLE_EQ(rows[0].yaw, 0.01);
   fs::remove_all(dir);
 }
-

@@ -6,9 +6,9 @@
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
+#include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/se2.h"
-#include "radar_ndt/frontend/power_threshold.h"
 
 using namespace radar_ndt;
 
@@ -117,7 +117,8 @@ TEST(PowerThreshold, ThresholdAndRangeAreSettings) {
 
 TEST(PowerThreshold, RealRadiateScans) {
   const std::string dir = std::string(RADAR_NDT_SHARED_DATA) + "/radiate-tiny-foggy/Navtech_Polar";
-  if (!std::filesystem::exists(dir)) GTEST_SKIP() << "no " << dir << " (../shared/data is absent): skipping the real-data check";
+  if (!std::filesystem::exists(dir))
+    GTEST_SKIP() << "no " << dir << " (../shared/data is absent): skipping the real-data check";
   const PowerThreshold cartesian;
   PowerThresholdOptions po;
   po.cartesian = false;

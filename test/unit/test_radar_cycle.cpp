@@ -17,7 +17,8 @@ TEST(RadarCycles, ReferenceClocksAndOthersWithinOnePeriod) {
     s.push_back({k * 100000 + 30000, 1});
     if (k < 3 || k > 6) s.push_back({k * 100000 + 60000, 2});
   }
-  std::sort(s.begin(), s.end(), [](const SweepStamp& a, const SweepStamp& b) { return a.timestamp_us < b.timestamp_us; });
+  std::sort(s.begin(), s.end(),
+            [](const SweepStamp& a, const SweepStamp& b) { return a.timestamp_us < b.timestamp_us; });
   const auto plans = planRadarCycles(s, 0);
   ASSERT_EQ(plans.size(), 10u);
   EXPECT_EQ(plans[0].members.size(), 1u);  // nothing before the first reference sweep
@@ -51,7 +52,7 @@ TEST(AutomotiveFrontEnd, EachSweepIsMovedToTheReferenceTime) {
     sweep.sensor_to_vehicle = front;
     const double back = 1e-6 * static_cast<double>(cycle.timestamp_us - t) * v.x();
     for (const auto& w : world) {
-      const double x = w.x() + back, y = w.y();  // vehicle frame at the sweep's time
+      const double x = w.x() + back, y = w.y();                               // vehicle frame at the sweep's time
       PointRadar p(static_cast<float>(x - 3.4), static_cast<float>(y), 0.f);  // sensor frame
       p.doppler = static_cast<float>(predictedDoppler(mounting, x, y, v));
       sweep.points.push_back(p);

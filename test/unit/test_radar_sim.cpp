@@ -9,9 +9,9 @@
 #include <gtest/gtest.h>
 
 #include "radar_ndt/evaluation/scan_statistics.h"
+#include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/trajectory_io.h"
-#include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/pipeline/scanning_sequence.h"
 #include "radar_ndt/sim/radar_sim.h"
 #include "test_support.h"
@@ -170,16 +170,21 @@ TEST(RadarSim, MotionDistortion) {
   for (int a = 1; a < s.azimuths; ++a) EXPECT_GT(s.stamp_us[a], s.stamp_us[a - 1]);
   // Azimuth 0 (t = 0): the front wall at 20 m; azimuth 200 (behind, t = 0.125 s, ego at 1.25 m):
   // the rear wall at 21.25 m; azimuth 399 (front again, t ≈ 0.249 s): the front wall at ≈ 17.5 m.
-  EXPECT_NEAR(edgeRange(s, 0, 5, 40), 20.0, 0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
-  EXPECT_NEAR(edgeRange(s, 200, 5, 40), 21.25, 0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
-  EXPECT_NEAR(edgeRange(s, 399, 5, 40), 20.0 - 10.0 * 0.249375, 0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
+  EXPECT_NEAR(edgeRange(s, 0, 5, 40), 20.0,
+              0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
+  EXPECT_NEAR(edgeRange(s, 200, 5, 40), 21.25,
+              0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
+  EXPECT_NEAR(edgeRange(s, 399, 5, 40), 20.0 - 10.0 * 0.249375,
+              0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
   // Standing still: no distortion.
   const sim::SimTrajectory still = straight(0.0 + 1e-9);
   const sim::World w0 = sim::World::fromPrimitives(
       still, {{{20, -30}, {20, 30}, sim::Material::Building}, {{-20, -30}, {-20, 30}, sim::Material::Building}}, {});
   sim::renderScan(w0, still, 0.0, 1, 0, clean(), s);
-  EXPECT_NEAR(edgeRange(s, 399, 5, 40), 20.0, 0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
-  EXPECT_NEAR(edgeRange(s, 200, 5, 40), 20.0, 0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
+  EXPECT_NEAR(edgeRange(s, 399, 5, 40), 20.0,
+              0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
+  EXPECT_NEAR(edgeRange(s, 200, 5, 40), 20.0,
+              0.3);  // speckle and the facade's depth blur the edge; the effect is 1.25–2.5 m
 }
 
 TEST(RadarSim, OcclusionAndTransmission) {
@@ -193,9 +198,9 @@ TEST(RadarSim, OcclusionAndTransmission) {
   PolarScan s;
   sim::renderScan(w, ego, 0.0, 1, 0, clean(), s);
   const double noise = meanPower(s, 0, 40, 60);
-  EXPECT_GT(meanPower(s, 0, 9.8, 10.4), noise + 0.3);                       // the near facade
-  EXPECT_LT(meanPower(s, 0, 24.8, 25.4), noise + 0.03);                      // hidden
-  const int side = 400 - 40;  // 36° to the left
+  EXPECT_GT(meanPower(s, 0, 9.8, 10.4), noise + 0.3);    // the near facade
+  EXPECT_LT(meanPower(s, 0, 24.8, 25.4), noise + 0.03);  // hidden
+  const int side = 400 - 40;                             // 36° to the left
   EXPECT_NEAR(edgeRange(s, side, 5, 60), 25.0 - 0.12, 0.2);
   EXPECT_GT(meanPower(s, side, 24.7, 25.1), noise + 0.2);
   // A tree crown lets part of the beam through: the facade behind it still shows, weaker.
@@ -219,7 +224,7 @@ TEST(RadarSim, BeamSmearsAPoleAcrossAzimuths) {
   const double noise = meanPower(s, 100, 20, 40);
   int lit = 0;
   for (int a : {398, 399, 0, 1, 2}) lit += meanPower(s, a, 29.8, 30.3) > noise + 0.1;
-  EXPECT_GE(lit, 3);  // 2° beam over 0.9° azimuth steps
+  EXPECT_GE(lit, 3);                                      // 2° beam over 0.9° azimuth steps
   EXPECT_LT(meanPower(s, 10, 29.8, 30.3), noise + 0.05);  // 9° off: dark
 }
 
@@ -248,8 +253,8 @@ TEST(RadarSim, DisplayCompressionOnlyLowersReturnsAboveTheKnee) {
       EXPECT_NEAR(b.power[i], knee + 0.35 * (a.power[i] - knee), 1.0) << "pixel " << i;
     }
   }
-  EXPECT_GT(above, 100);        // the facade
-  EXPECT_GT(peak_a, 200);       // plain: a facade at 20 m lights up almost to full scale
+  EXPECT_GT(above, 100);   // the facade
+  EXPECT_GT(peak_a, 200);  // plain: a facade at 20 m lights up almost to full scale
   EXPECT_LT(peak_b, 0.75 * peak_a);
   sim::ScanningOptions bad = clean();
   bad.display_compression = 0.0;
@@ -263,7 +268,8 @@ TEST(RadarSim, RealismAgainstRadiate) {
   const PowerThreshold front;
   std::vector<PowerStatistics> real;
   for (const auto& e : fs::directory_iterator(dir))
-    if (e.path().extension() == ".png") real.push_back(powerStatistics(front.cartesianImage(readRadiatePolarPng(e.path().string())), 0.333f));
+    if (e.path().extension() == ".png")
+      real.push_back(powerStatistics(front.cartesianImage(readRadiatePolarPng(e.path().string())), 0.333f));
   const PowerStatistics r = medianStatistics(real);
   const sim::SimTrajectory ego = sim::builtinDrive(120.0);
   sim::WorldOptions wo;
@@ -460,7 +466,8 @@ TEST(RadarSimOxford, AzimuthAndRangeResponseOfAPoleFollowTheRealScans) {
     auto peak = [&](int a, double lo, double hi) {
       int best = 0;
       for (int b = 0; b < s.bins; ++b)
-        if (s.rangeOf(b) >= lo && s.rangeOf(b) <= hi) best = std::max<int>(best, s.row((a + s.azimuths) % s.azimuths)[b]);
+        if (s.rangeOf(b) >= lo && s.rangeOf(b) <= hi)
+          best = std::max<int>(best, s.row((a + s.azimuths) % s.azimuths)[b]);
       return best;
     };
     // The pole sits between azimuths 399 and 0 (0°, the first azimuth, is at 0.84° right).
@@ -572,8 +579,8 @@ TEST(RadarSimOxford, ProfileReproducesTheRealOxfordScansOnADriveItWasNotCalibrat
     }
     const RealismCheck c = compareRealism(summarize(simulated).median, r, options);
     for (const auto& f : c.failures) std::printf("  %s: %s\n", sim::toString(profile), f.c_str());
-    std::printf("%s: %zu of %zu fields within the tolerances, error %.1f\n", sim::toString(profile), c.fields - c.failures.size(),
-                c.fields, c.error);
+    std::printf("%s: %zu of %zu fields within the tolerances, error %.1f\n", sim::toString(profile),
+                c.fields - c.failures.size(), c.fields, c.error);
     return c;
   };
   const RealismCheck oxford = fieldsWithin(sim::ScanningProfile::Oxford);

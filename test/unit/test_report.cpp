@@ -25,9 +25,9 @@ TEST(Report, ParsesMetricLists) {
 TEST(Report, JsonHasTheSharedShape) {
   const auto r = evaluate(associate(straight(3000, 0.5), straight(3000, 0.5, 1.01)), parseMetrics("all"));
   const std::string j = toJson(r);
-  for (const char* key : {"\"metrics\"", "\"kitti\"", "\"1m\"", "\"frame\"", "\"ate\"", "\"trans_err_pct\"",
-                          "\"rot_err_deg_per_m\"", "\"segments\"", "\"trans_err_m\"", "\"rot_err_deg\"", "\"pairs\"",
-                          "\"rmse_m\""})
+  for (const char* key :
+       {"\"metrics\"", "\"kitti\"", "\"1m\"", "\"frame\"", "\"ate\"", "\"trans_err_pct\"", "\"rot_err_deg_per_m\"",
+        "\"segments\"", "\"trans_err_m\"", "\"rot_err_deg\"", "\"pairs\"", "\"rmse_m\""})
     EXPECT_NE(j.find(key), std::string::npos) << key;
 }
 

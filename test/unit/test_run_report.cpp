@@ -51,8 +51,10 @@ TEST(RunReport, StepsCsvHasAHeaderAndOneLinePerStep) {
   a.steps[1].match_motion = Pose2(0.79, 0.01, 0.002);
   a.steps[1].yaw_rate_bias = 0.003;
   const std::string acsv = stepsCsv(a);
-  EXPECT_NE(acsv.find(",gt_dx,gt_dy,gt_dyaw,match_dx,match_dy,match_dyaw,match_var_x,match_var_y,match_var_yaw,yaw_rate_bias\n"),
-            std::string::npos);
+  EXPECT_NE(
+      acsv.find(
+          ",gt_dx,gt_dy,gt_dyaw,match_dx,match_dy,match_dyaw,match_var_x,match_var_y,match_var_yaw,yaw_rate_bias\n"),
+      std::string::npos);
   EXPECT_NE(acsv.find(",0.8,0,0,0.79,0.01,0.002,nan,nan,nan,0.003\n"), std::string::npos)
       << "the ground-truth motion, the raw match, its (absent) covariance and the bias of the cycle: " << acsv;
 }

@@ -19,7 +19,8 @@ PolarScan scanOf(F value) {
   s.range_offset_bins = 0.5;
   s.power.resize(400);
   for (int a = 0; a < 4; ++a)
-    for (int b = 0; b < 100; ++b) s.power[static_cast<std::size_t>(a) * 100 + b] = static_cast<std::uint8_t>(value(a, b));
+    for (int b = 0; b < 100; ++b)
+      s.power[static_cast<std::size_t>(a) * 100 + b] = static_cast<std::uint8_t>(value(a, b));
   s.angle.assign(4, 0.0);
   s.stamp_us.assign(4, 0);
   s.measured.assign(4, 1);

@@ -83,7 +83,8 @@ std::shared_ptr<RecordingNdt> recordingMatcher(double grid) {
 
 // A drive down street() with the default options and a RecordingNdt, a scan every 250 ms.
 struct RecordedDrive {
-  explicit RecordedDrive(unsigned seed) : rng(seed), matcher(recordingMatcher(options.grid)), odometry(options, MatcherAdapter(matcher)) {}
+  explicit RecordedDrive(unsigned seed)
+      : rng(seed), matcher(recordingMatcher(options.grid)), odometry(options, MatcherAdapter(matcher)) {}
   // Adds scan k, seen from (x0, 0); returns the align() calls it made.
   std::vector<RecordingNdt::Call> scan(int k, double x0) {
     const std::size_t before = matcher->calls.size();
@@ -310,10 +311,12 @@ TEST(ScanningOdometry, EachCompensationRoundUsesTheVelocityThePreviousMatchFound
   for (int k = 0; k < 7; ++k) {
     x0 += k == 0 ? 0.0 : (k < 5 ? 2.0 : 2.6);
     pcl::PointCloud<PointRadar> cloud = *observeWorld(world, x0, rng, noise);
-    for (std::size_t i = 0; i < cloud.size(); ++i) cloud[i].time_offset = 0.25f * static_cast<float>(i) / static_cast<float>(cloud.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+      cloud[i].time_offset = 0.25f * static_cast<float>(i) / static_cast<float>(cloud.size());
     raw.push_back(cloud);
     first_match.push_back(matcher->matches.size());
-    odometry.addScan(ScanFrame{1000000 + 250000 * static_cast<std::int64_t>(k), pcl::make_shared<pcl::PointCloud<PointRadar>>(cloud)});
+    odometry.addScan(ScanFrame{1000000 + 250000 * static_cast<std::int64_t>(k),
+                               pcl::make_shared<pcl::PointCloud<PointRadar>>(cloud)});
   }
   const int k = 5;
   const auto& steps = odometry.steps();
@@ -325,7 +328,8 @@ TEST(ScanningOdometry, EachCompensationRoundUsesTheVelocityThePreviousMatchFound
   auto expectSame = [](const pcl::PointCloud<PointRadar>& a, const pcl::PointCloud<PointRadar>& b, const char* what) {
     ASSERT_EQ(a.size(), b.size()) << what;
     double worst = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) worst = std::max({worst, std::abs(double(a[i].x) - b[i].x), std::abs(double(a[i].y) - b[i].y)});
+    for (std::size_t i = 0; i < a.size(); ++i)
+      worst = std::max({worst, std::abs(double(a[i].x) - b[i].x), std::abs(double(a[i].y) - b[i].y)});
     EXPECT_LT(worst, 1e-4) << what;
   };
   pcl::PointCloud<PointRadar> expected;

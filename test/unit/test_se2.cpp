@@ -31,7 +31,8 @@ TEST(Se2, MatrixAndIsometryConversionsRoundTrip) {
 }
 
 TEST(SE2, VelocityOfInvertsIntegrateVelocity) {
-  for (const Eigen::Vector3d& v : {Eigen::Vector3d(10, 0.3, 0.5), Eigen::Vector3d(-2, 1, -1.2), Eigen::Vector3d(5, 0, 0)}) {
+  for (const Eigen::Vector3d& v :
+       {Eigen::Vector3d(10, 0.3, 0.5), Eigen::Vector3d(-2, 1, -1.2), Eigen::Vector3d(5, 0, 0)}) {
     const Eigen::Vector3d back = velocityOf(integrateVelocity(v, 0.25), 0.25);
     EXPECT_LT((back - v).norm(), 1e-9) << v.transpose();
   }

@@ -67,8 +67,8 @@ TEST(TrajectoryIo, TumRoundTrip) {
 }
 
 TEST(TrajectoryIo, CommentsBlankLinesAndCrlfAreAccepted) {
-  const std::string path = writeText("comments.txt",
-                                     "# t x y z qx qy qz qw\r\n\r\n1.0 1 2 3 0 0 0 1\r\n  \n2.0 1 2 3 0 0 0.7071068 0.7071068\n");
+  const std::string path = writeText(
+      "comments.txt", "# t x y z qx qy qz qw\r\n\r\n1.0 1 2 3 0 0 0 1\r\n  \n2.0 1 2 3 0 0 0.7071068 0.7071068\n");
   const auto t = readTum(path);
   ASSERT_EQ(t.size(), 2u);
   EXPECT_NEAR(toPose2(t.poses[1]).z(), kPi / 2, 1e-6);
@@ -118,7 +118,8 @@ INSTANTIATE_TEST_SUITE_P(
         MalformedCase{"kitti_not_rotation", "2 0 0 0 0 1 0 0 0 0 1 0\n", TrajectoryFormat::Kitti, "not a rotation", 1},
         MalformedCase{"kitti_trailing_junk", "1 0 0 0 0 1 0 0 0 0 1 0.5abc\n", TrajectoryFormat::Kitti,
                       "cannot parse '0.5abc'", 1},
-        MalformedCase{"auto_bad_columns", "1 2 3 4 5\n", TrajectoryFormat::Auto, "cannot tell the trajectory format", 0},
+        MalformedCase{"auto_bad_columns", "1 2 3 4 5\n", TrajectoryFormat::Auto, "cannot tell the trajectory format",
+                      0},
         MalformedCase{"tum_short", "1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 1\n", TrajectoryFormat::Tum, "8 numbers", 2},
         MalformedCase{"tum_stamps_backwards", "2.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n", TrajectoryFormat::Tum,
                       "not after the previous", 2},

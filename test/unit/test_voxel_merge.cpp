@@ -15,9 +15,9 @@ TEST(VoxelMerge, AveragesPositionTimeAndCovarianceKeepsTheStrongestPower) {
   b.time_offset = 0.2f;
   a.cov_xx = 0.01f;
   b.cov_xx = 0.03f;
-  in.push_back(c);  // voxel (4, -1) at 0.25 m, first
-  in.push_back(a);  // voxel (0, 0)
-  in.push_back(b);  // voxel (0, 0)
+  in.push_back(c);                                                              // voxel (4, -1) at 0.25 m, first
+  in.push_back(a);                                                              // voxel (0, 0)
+  in.push_back(b);                                                              // voxel (0, 0)
   in.push_back(PointRadar(std::numeric_limits<float>::quiet_NaN(), 0.f, 0.f));  // dropped
   mergeVoxels(in, 0.25, out);
   ASSERT_EQ(out.size(), 2u);

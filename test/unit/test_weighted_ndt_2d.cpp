@@ -2,21 +2,21 @@
 
 #include <cmath>
 #include <functional>
-#include <stdexcept>
 #include <limits>
 #include <random>
+#include <stdexcept>
 
 #include <Eigen/Eigenvalues>
 #include <pcl/console/print.h>
 #include <pcl/registration/icp.h>
 #include <pcl/registration/ndt.h>
 
-#include "radar_ndt/registration/weighted_ndt_2d.h"
 #include "radar_ndt/registration/detail/fast_exp.h"
 #include "radar_ndt/registration/detail/ndt_cost.h"
 #include "radar_ndt/registration/detail/ndt_grid.h"
-#include "radar_ndt/registration/detail/source_points.h"
 #include "radar_ndt/registration/detail/newton_optimizer.h"
+#include "radar_ndt/registration/detail/source_points.h"
+#include "radar_ndt/registration/weighted_ndt_2d.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/sim/synthetic_scan.h"
 
@@ -58,7 +58,8 @@ AlignResult alignPair(const SyntheticScanPair& pair, const Pose2& guess, Weighte
 }
 
 void expectClose(const Pose2& est, const Pose2& truth, double tol_m, double tol_deg) {
-  EXPECT_LT((est.head<2>() - truth.head<2>()).norm(), tol_m) << "est " << est.transpose() << " truth " << truth.transpose();
+  EXPECT_LT((est.head<2>() - truth.head<2>()).norm(), tol_m)
+      << "est " << est.transpose() << " truth " << truth.transpose();
   EXPECT_LT(std::abs(normalizeAngle(est.z() - truth.z())) / kDeg, tol_deg)
       << "est " << est.transpose() << " truth " << truth.transpose();
 }
@@ -109,8 +110,8 @@ void runCase(const Case& c) {
     }
     pair.source = moved;
     const double dir = 2 * kPi * (0.5 + 0.5 * U(rng));
-    const Pose2 guess = compose(truth, Pose2(c.init_m * std::cos(dir), c.init_m * std::sin(dir),
-                                             (U(rng) > 0 ? 1 : -1) * c.init_deg * kDeg));
+    const Pose2 guess = compose(
+        truth, Pose2(c.init_m * std::cos(dir), c.init_m * std::sin(dir), (U(rng) > 0 ? 1 : -1) * c.init_deg * kDeg));
     WeightedNDT2D<PointT, PointT> ndt;
     if (c.coarse_to_fine) ndt.setResolutions({9.0f, 6.0f, 4.0f, 3.0f});
     if (c.noisy) ndt.setPowerShift(0.4f);  // clutter has power <= 0.3: ignored
@@ -200,7 +201,8 @@ TEST(WeightedNDT2D, SourceShiftOffWeighsTheSourceByItsUnshiftedPower) {
   // weights (eq. 2): the same problem as shifting both with every source power raised by s. Powers
   // are multiples of 1/256 and s = 0.25, so p + s − s is exact and the answers agree bit for bit.
   auto pair = noisyPair(31, 6000);
-  for (std::size_t i = 0; i < pair.target.size(); ++i) pair.target[i].power = 0.5f + static_cast<float>(i % 61) / 256.0f;
+  for (std::size_t i = 0; i < pair.target.size(); ++i)
+    pair.target[i].power = 0.5f + static_cast<float>(i % 61) / 256.0f;
   pcl::PointCloud<PointRadar> raised = pair.source;
   for (std::size_t i = 0; i < pair.source.size(); ++i) {
     pair.source[i].power = 0.5f + static_cast<float>((7 * i) % 64) / 256.0f;
@@ -815,9 +817,9 @@ TEST(WeightedNDT2D, SourceWeightsAreEquationTwo) {
   // Eq. (2), the numbers themselves: w = max(p - s, 0) exp(-1/2 (sigma_x + sigma_y)), sigma_x and
   // sigma_y the point's standard deviations (not variances); a point below the shift is left out.
   pcl::PointCloud<PointRadar> source;
-  source.push_back(pointWith(1.0f, 2.0f, 0.8f, 0.04f, 0.0f, 0.09f));   // sigma 0.2 and 0.3 m
-  source.push_back(pointWith(5.0f, -1.0f, 0.5f, 0.25f, 0.1f, 1.0f));   // sigma 0.5 and 1 m
-  source.push_back(pointWith(3.0f, 3.0f, 0.2f, 0.01f, 0.0f, 0.01f));   // below s
+  source.push_back(pointWith(1.0f, 2.0f, 0.8f, 0.04f, 0.0f, 0.09f));  // sigma 0.2 and 0.3 m
+  source.push_back(pointWith(5.0f, -1.0f, 0.5f, 0.25f, 0.1f, 1.0f));  // sigma 0.5 and 1 m
+  source.push_back(pointWith(3.0f, 3.0f, 0.2f, 0.01f, 0.0f, 0.01f));  // below s
   const pcl::Indices all{0, 1, 2};
   std::vector<detail::WeightedPoint2D> out;
   detail::weightSourcePoints(source, all, 0.3, out);

@@ -27,10 +27,14 @@ namespace {
 
 constexpr double kDeg = kPi / 180.0;
 
-double dbToLinear(double db) { return std::pow(10.0, 0.1 * db); }
+double dbToLinear(double db) {
+  return std::pow(10.0, 0.1 * db);
+}
 
 /// Standard normal CDF.
-double phi(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
+double phi(double x) {
+  return 0.5 * std::erfc(-x / std::sqrt(2.0));
+}
 
 /// Gamma(shape k, scale 1/k) variate with mean 1 (speckle of k looks), Marsaglia–Tsang.
 double gammaMeanOne(Random& rng, double k) {
@@ -67,7 +71,8 @@ double groundClutter(std::uint64_t seed, const Eigen::Vector2d& q, double cover)
     std::uint64_t h = seed * 0xbf58476d1ce4e5b9ULL ^ (static_cast<std::uint64_t>(x) * 0x9e3779b97f4a7c15ULL) ^
                       (static_cast<std::uint64_t>(y) * 0xc2b2ae3d27d4eb4fULL);
     const std::uint64_t r = splitmix64(h);
-    const double a = static_cast<double>(r >> 40) * 0x1.0p-24, b = (static_cast<double>(r & 0xffffff) + 0.5) * 0x1.0p-24;
+    const double a = static_cast<double>(r >> 40) * 0x1.0p-24,
+                 b = (static_cast<double>(r & 0xffffff) + 0.5) * 0x1.0p-24;
     return a < cover ? -std::log(b) : 0.0;
   };
   return (1 - ux) * (1 - uy) * cell(ix, iy) + ux * (1 - uy) * cell(ix + 1, iy) + (1 - ux) * uy * cell(ix, iy + 1) +
@@ -82,7 +87,8 @@ struct Scatterer {
 
 /// The scatterers of the 10 m cell (ix, iy): a Poisson number of them (mean density · 100 m²),
 /// uniform in the cell, normal strengths in dB; fixed per seed.
-void cellScatterers(std::uint64_t seed, long ix, long iy, double density, double sigma_db, std::vector<Scatterer>& out) {
+void cellScatterers(std::uint64_t seed, long ix, long iy, double density, double sigma_db,
+                    std::vector<Scatterer>& out) {
   constexpr double kCell = 10.0;
   std::uint64_t h = seed * 0x94d049bb133111ebULL ^ (static_cast<std::uint64_t>(ix) * 0x9e3779b97f4a7c15ULL) ^
                     (static_cast<std::uint64_t>(iy) * 0xc2b2ae3d27d4eb4fULL) ^ 0x5ca77e4ULL;
@@ -104,7 +110,9 @@ void cellScatterers(std::uint64_t seed, long ix, long iy, double density, double
   }
 }
 
-bool mirrors(Material m) { return m == Material::Building || m == Material::Car || m == Material::Bus || m == Material::Wall; }
+bool mirrors(Material m) {
+  return m == Material::Building || m == Material::Car || m == Material::Bus || m == Material::Wall;
+}
 
 /// 10·log10 of an Exp(1) variate, tabulated on 2^16 quantiles (the noise floor's fast path).
 const std::vector<float>& exponentialDbTable() {
@@ -123,7 +131,8 @@ const std::vector<float>& exponentialDbTable() {
 const std::vector<float>& exponentialTable() {
   static const std::vector<float> table = [] {
     std::vector<float> t(1 << 16);
-    for (std::size_t i = 0; i < t.size(); ++i) t[i] = static_cast<float>(-std::log((static_cast<double>(i) + 0.5) / t.size()));
+    for (std::size_t i = 0; i < t.size(); ++i)
+      t[i] = static_cast<float>(-std::log((static_cast<double>(i) + 0.5) / t.size()));
     return t;
   }();
   return table;
@@ -145,7 +154,8 @@ std::string token(std::uint64_t seed, std::uint64_t kind, std::uint64_t index) {
   std::uint64_t x = seed * 0x9e3779b97f4a7c15ULL ^ (kind << 48) ^ index;
   const std::uint64_t a = splitmix64(x), b = splitmix64(x);
   char buf[33];
-  std::snprintf(buf, sizeof buf, "%016llx%016llx", static_cast<unsigned long long>(a), static_cast<unsigned long long>(b));
+  std::snprintf(buf, sizeof buf, "%016llx%016llx", static_cast<unsigned long long>(a),
+                static_cast<unsigned long long>(b));
   return buf;
 }
 
@@ -155,7 +165,9 @@ void progressLine(bool on, const char* what, std::size_t k, std::size_t n) {
   if (k + 1 == n) std::fprintf(stderr, "\n");
 }
 
-std::int64_t toMicros(double seconds) { return static_cast<std::int64_t>(std::llround(seconds * 1e6)); }
+std::int64_t toMicros(double seconds) {
+  return static_cast<std::int64_t>(std::llround(seconds * 1e6));
+}
 
 }  // namespace
 
@@ -167,7 +179,9 @@ ScanningProfile parseScanningProfile(const std::string& name) {
   throw std::invalid_argument("unknown scanning profile '" + name + "' (oxford or radiate)");
 }
 
-const char* toString(ScanningProfile profile) { return profile == ScanningProfile::Oxford ? "oxford" : "radiate"; }
+const char* toString(ScanningProfile profile) {
+  return profile == ScanningProfile::Oxford ? "oxford" : "radiate";
+}
 
 void applyProfile(ScanningProfile profile, WorldOptions& w, ScanningOptions& s) {
   // The world and sensor settings a profile owns; the seed, geometry and timing stay.
@@ -219,11 +233,12 @@ void applyProfile(ScanningProfile profile, WorldOptions& w, ScanningOptions& s) 
 void renderScan(const World& world, const SimTrajectory& ego, double t, std::uint64_t seed, std::uint64_t frame,
                 const ScanningOptions& o, PolarScan& scan) {
   if (o.azimuths <= 0 || o.bins <= 0 || o.range_resolution <= 0 || o.sweep_period <= 0 || o.beam_rays <= 0)
-    throw std::invalid_argument("radar_sim: azimuths, bins, range resolution, sweep period and beam rays must be positive");
+    throw std::invalid_argument(
+        "radar_sim: azimuths, bins, range resolution, sweep period and beam rays must be positive");
   if (!(o.display_compression > 0 && o.display_compression <= 1) || !std::isfinite(o.display_knee_db))
     throw std::invalid_argument("radar_sim: display_compression must be in (0, 1] and display_knee_db finite");
-  if (!(o.noise_counts > 0) || !(o.leakage_length > 0) || !(o.azimuth_sidelobe_width_deg > 0) || !(o.range_pedestal_length > 0) ||
-      !(o.range_offset_bins >= 0))
+  if (!(o.noise_counts > 0) || !(o.leakage_length > 0) || !(o.azimuth_sidelobe_width_deg > 0) ||
+      !(o.range_pedestal_length > 0) || !(o.range_offset_bins >= 0))
     throw std::invalid_argument(
         "radar_sim: noise_counts, leakage_length, azimuth_sidelobe_width_deg and range_pedestal_length must be > 0, "
         "range_offset_bins >= 0");
@@ -285,7 +300,8 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
   std::vector<double> occluded_at(A);
   std::vector<Eigen::Vector2d> origins(A), directions(A);
   for (int a = 0; a < A; ++a) {
-    scan.encoder[a] = static_cast<std::uint16_t>((static_cast<long>(a) * oxford.encoder_size / A) % oxford.encoder_size);
+    scan.encoder[a] =
+        static_cast<std::uint16_t>((static_cast<long>(a) * oxford.encoder_size / A) % oxford.encoder_size);
     scan.angle[a] = oxford.convention.toVehicleAngle(2.0 * kPi * scan.encoder[a] / oxford.encoder_size);
     const double ta = t + a * o.sweep_period / A;
     scan.stamp_us[a] = toMicros(ta);  // re-based by the caller
@@ -303,7 +319,7 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
       for (int b = b0; b <= b1; ++b) {
         const double x = (b + offset) * res - r;
         const double k = depth > 1e-3 ? (phi(x / sigma) - phi((x - depth) / sigma)) * norm
-                                       : std::exp(-0.5 * (x / sigma) * (x / sigma));
+                                      : std::exp(-0.5 * (x / sigma) * (x / sigma));
         signal[b] += p * k;
       }
     };
@@ -320,7 +336,8 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
       world.cast(origin, angle, ta, max_range, movers, hits);
       double through = 1.0;  // share of the power left after transmissive hits
       const bool central = j == o.beam_rays / 2;
-      if (central && !hits.empty() && materialModel(hits.back().material).transmission <= 0.0) occluded = hits.back().range;
+      if (central && !hits.empty() && materialModel(hits.back().material).transmission <= 0.0)
+        occluded = hits.back().range;
       for (const Hit& h : hits) {
         addReturn(h.range, h.depth * o.depth_scale, ray_gain[j] * through * hitPower(h, h.range));
         through *= materialModel(h.material).transmission;
@@ -337,7 +354,8 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
           if (!bounce.empty()) {
             const Hit& g = bounce.back();
             const double r = h.range + g.range;
-            if (r < max_range) addReturn(r, g.depth * o.depth_scale, hitPower(g, r) * dbToLinear(-o.ghost_attenuation_db));
+            if (r < max_range)
+              addReturn(r, g.depth * o.depth_scale, hitPower(g, r) * dbToLinear(-o.ghost_attenuation_db));
           }
         }
       }
@@ -390,8 +408,10 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
   if (o.scatterer_density > 0) {
     std::vector<Scatterer> field;
     const double reach = max_range + 2.0;
-    const long x0 = static_cast<long>(std::floor((centre.x() - reach) / 10.0)), x1 = static_cast<long>(std::floor((centre.x() + reach) / 10.0));
-    const long y0 = static_cast<long>(std::floor((centre.y() - reach) / 10.0)), y1 = static_cast<long>(std::floor((centre.y() + reach) / 10.0));
+    const long x0 = static_cast<long>(std::floor((centre.x() - reach) / 10.0)),
+               x1 = static_cast<long>(std::floor((centre.x() + reach) / 10.0));
+    const long y0 = static_cast<long>(std::floor((centre.y() - reach) / 10.0)),
+               y1 = static_cast<long>(std::floor((centre.y() + reach) / 10.0));
     for (long ix = x0; ix <= x1; ++ix)
       for (long iy = y0; iy <= y1; ++iy) cellScatterers(seed, ix, iy, o.scatterer_density, o.scatterer_sigma_db, field);
     const double step = 2.0 * kPi / A;
@@ -412,14 +432,16 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
       const double r = d.norm();
       if (r >= max_range || r < 0.5) continue;
       const double bearing = std::atan2(d.y(), d.x()) - pose.z();
-      const double p_db = o.target_snr_db + o.scatterer_db + sc.db - o.range_loss_db_per_decade * std::log10(std::max(r, 10.0) / 10.0);
+      const double p_db =
+          o.target_snr_db + o.scatterer_db + sc.db - o.range_loss_db_per_decade * std::log10(std::max(r, 10.0) / 10.0);
       const double power = dbToLinear(p_db);
       const int b0 = std::max(0, static_cast<int>(std::floor((r - 4.0 * sigma) / res - offset)));
       const int b1 = std::min(B - 1, static_cast<int>(std::ceil((r + 4.0 * sigma) / res - offset)));
       for (int k = -spread; k <= spread; ++k) {
         const int ak = ((a + k) % A + A) % A;
         const double off = normalizeAngle(bearing - scan.angle[ak]);
-        const double g = power * std::exp(-0.5 * (off / beam_sigma) * (off / beam_sigma)) * (r < occluded_at[ak] ? 1.0 : over);
+        const double g =
+            power * std::exp(-0.5 * (off / beam_sigma) * (off / beam_sigma)) * (r < occluded_at[ak] ? 1.0 : over);
         if (g < 1e-3) continue;
         double* signal = &signal_all[static_cast<std::size_t>(ak) * B];
         for (int b = b0; b <= b1; ++b) {
@@ -435,7 +457,8 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
     const double level = dbToLinear(o.azimuth_sidelobe_db);
     const double step = 2.0 * kPi / A, width = o.azimuth_sidelobe_width_deg * kDeg;
     // Taps out to where the sidelobe falls below −50 dB of the return.
-    const int K = std::max(1, std::min(A / 2 - 1, static_cast<int>(std::ceil(width * std::log(std::max(level, 1e-5) / 1e-5) / step))));
+    const int K = std::max(
+        1, std::min(A / 2 - 1, static_cast<int>(std::ceil(width * std::log(std::max(level, 1e-5) / 1e-5) / step))));
     std::vector<double> w(K + 1, 0.0);
     for (int k = 1; k <= K; ++k) w[k] = level * std::exp(-k * step / width);
     std::vector<double> spread(static_cast<std::size_t>(A) * B, 0.0);
@@ -458,7 +481,8 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
   const bool counts = o.display_counts != 0.0;
   const double count_scale = o.noise_counts;
   const auto& exp_table = exponentialTable();
-  const double knee_lin = o.display_compression < 1.0 ? dbToLinear(o.display_knee_db) : std::numeric_limits<double>::infinity();
+  const double knee_lin =
+      o.display_compression < 1.0 ? dbToLinear(o.display_knee_db) : std::numeric_limits<double>::infinity();
   for (int a = 0; a < A; ++a) {
     const double* signal = &signal_all[static_cast<std::size_t>(a) * B];
     const bool saturated = rng.chance(o.saturation_probability);
@@ -482,8 +506,9 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
         // by table. A signal below 2 % of the noise mean is left to the noise.
         double i = mean * exp_table[rng.next() >> 48];
         if (s >= 0.02 || saturated) {
-          const double speckle = o.speckle_looks == 2.0 ? 0.5 * (exp_table[rng.next() >> 48] + exp_table[rng.next() >> 48])
-                                                         : gammaMeanOne(rng, o.speckle_looks);
+          const double speckle = o.speckle_looks == 2.0
+                                     ? 0.5 * (exp_table[rng.next() >> 48] + exp_table[rng.next() >> 48])
+                                     : gammaMeanOne(rng, o.speckle_looks);
           i += s * speckle;
           if (saturated) i += saturation * (0.8 + 0.4 * rng.uniform());
         }
@@ -500,15 +525,17 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
         if (saturated) i += saturation * (0.8 + 0.4 * rng.uniform());
         db = 10.0 * std::log10(std::max(i, 1e-12));
       }
-      if (o.display_compression < 1.0 && db > o.display_knee_db) db = o.display_knee_db + (db - o.display_knee_db) * o.display_compression;
+      if (o.display_compression < 1.0 && db > o.display_knee_db)
+        db = o.display_knee_db + (db - o.display_knee_db) * o.display_compression;
       const double v = o.noise_display_level + db / o.display_db_range;
       row[b] = static_cast<std::uint8_t>(std::lround(std::min(std::max(v, 0.0), 1.0) * 255.0));
     }
   }
 }
 
-SequenceSummary writeScanningSequence(const std::string& dir, const SimTrajectory& ego, const WorldOptions& world_options,
-                                      const ScanningOptions& options, const SequenceOptions& sequence) {
+SequenceSummary writeScanningSequence(const std::string& dir, const SimTrajectory& ego,
+                                      const WorldOptions& world_options, const ScanningOptions& options,
+                                      const SequenceOptions& sequence) {
   const auto wall = std::chrono::steady_clock::now();
   if (sequence.start >= ego.size()) throw std::invalid_argument("radar_sim: --start is past the trajectory's end");
   const std::size_t available = ego.size() - sequence.start;
@@ -540,9 +567,11 @@ SequenceSummary writeScanningSequence(const std::string& dir, const SimTrajector
     for (auto& s : scan.stamp_us) s = stamp + (s - base);
     scan.stamp = stamp;
     if (writing.valid()) writing.get();  // rethrows a failed write
-    writing = std::async(std::launch::async, [&scan, &oxford, &sequence, path = (fs::path(dir) / "radar" / (std::to_string(stamp) + ".png")).string()] {
-      writeOxfordPolarPng(path, scan, oxford, sequence.png_compression);
-    });
+    writing = std::async(
+        std::launch::async,
+        [&scan, &oxford, &sequence, path = (fs::path(dir) / "radar" / (std::to_string(stamp) + ".png")).string()] {
+          writeOxfordPolarPng(path, scan, oxford, sequence.png_compression);
+        });
     stamps.push_back({stamp, true});
     const Pose2 pose = ego.at(t);
     if (k == 0) first = pose;
@@ -597,12 +626,12 @@ constexpr std::array<Mounting, 5> kMountings{{{"RADAR_FRONT", 3.412, 0.0, 0.5, 0
                                               {"RADAR_BACK_RIGHT", -0.562, -0.618, 0.53, -176.11}}};
 
 struct Detection {
-  double x, y;        // sensor frame
-  double vr;          // radial velocity, positive receding
+  double x, y;  // sensor frame
+  double vr;    // radial velocity, positive receding
   double rcs;
   bool moving;
-  double sx, sy;      // position standard deviations in the sensor frame
-  double vr_world;    // the target's own radial velocity (for vx_comp / vy_comp)
+  double sx, sy;    // position standard deviations in the sensor frame
+  double vr_world;  // the target's own radial velocity (for vx_comp / vy_comp)
 };
 
 /// Detections as the nuScenes radar PCD stores them (sensor frame, ARS408 state indices).
@@ -636,12 +665,15 @@ std::vector<NuScenesRadarPoint> toPcdPoints(const std::vector<Detection>& dets, 
 }
 
 /// nuScenes' (w, x, y, z) of a rotation about z.
-std::array<double, 4> quaternionYaw(double yaw) { return {std::cos(0.5 * yaw), 0.0, 0.0, std::sin(0.5 * yaw)}; }
+std::array<double, 4> quaternionYaw(double yaw) {
+  return {std::cos(0.5 * yaw), 0.0, 0.0, std::sin(0.5 * yaw)};
+}
 
 }  // namespace
 
-SequenceSummary writeAutomotiveSequence(const std::string& dir, const SimTrajectory& ego, const WorldOptions& world_options,
-                                        const AutomotiveOptions& o, const SequenceOptions& sequence) {
+SequenceSummary writeAutomotiveSequence(const std::string& dir, const SimTrajectory& ego,
+                                        const WorldOptions& world_options, const AutomotiveOptions& o,
+                                        const SequenceOptions& sequence) {
   const auto wall = std::chrono::steady_clock::now();
   if (sequence.start >= ego.size()) throw std::invalid_argument("radar_sim: --start is past the trajectory's end");
   if (!(o.period > 0)) throw std::invalid_argument("radar_sim: the radar period must be positive");
@@ -679,7 +711,8 @@ SequenceSummary writeAutomotiveSequence(const std::string& dir, const SimTraject
     const Mounting& mount = kMountings[c];
     const std::string sensor_token = token(seed, 4, c), calib_token = token(seed, 5, c);
     tables.addSensor(sensor_token, mount.channel, "radar");
-    tables.addCalibratedSensor(calib_token, sensor_token, {mount.x, mount.y, mount.z}, quaternionYaw(mount.yaw_deg * kDeg));
+    tables.addCalibratedSensor(calib_token, sensor_token, {mount.x, mount.y, mount.z},
+                               quaternionYaw(mount.yaw_deg * kDeg));
     const Pose2 mount_pose(mount.x, mount.y, mount.yaw_deg * kDeg);
     // Unsynchronised radars: each its own phase; the front one starts the cycle clock.
     const double phase = c == 0 ? 0.0 : phase_rng.uniform(0.0, o.period);
@@ -721,7 +754,8 @@ SequenceSummary writeAutomotiveSequence(const std::string& dir, const SimTraject
         double through = 1.0;
         for (const Hit& h : hits) {
           const MaterialModel& m = materialModel(h.material);
-          const double p = std::min(0.95, o.detection_probability * through * std::clamp(0.5 + m.rcs_dbsm / 20.0, 0.2, 1.5));
+          const double p =
+              std::min(0.95, o.detection_probability * through * std::clamp(0.5 + m.rcs_dbsm / 20.0, 0.2, 1.5));
           through *= m.transmission;
           if (!rng.chance(p)) continue;
           const Eigen::Vector2d u(std::cos(sensor.z() + phi_s), std::sin(sensor.z() + phi_s));
@@ -757,8 +791,14 @@ SequenceSummary writeAutomotiveSequence(const std::string& dir, const SimTraject
       const int clutter = rng.poisson(o.clutter_per_sweep);
       for (int i = 0; i < clutter; ++i) {
         const double r = rng.uniform(1.0, o.near_range), a = rng.uniform(-o.near_fov_deg, o.near_fov_deg) * kDeg;
-        Detection d{r * std::cos(a), r * std::sin(a), rng.uniform(-6.0, 6.0), rng.uniform(-10.0, 5.0), true,
-                    o.range_sigma, r * o.azimuth_sigma_deg * kDeg, 0.0};
+        Detection d{r * std::cos(a),
+                    r * std::sin(a),
+                    rng.uniform(-6.0, 6.0),
+                    rng.uniform(-10.0, 5.0),
+                    true,
+                    o.range_sigma,
+                    r * o.azimuth_sigma_deg * kDeg,
+                    0.0};
         raw.push_back(d);
       }
       // Returns closer than the cluster distance merge into one detection (the strongest).
@@ -774,15 +814,14 @@ SequenceSummary writeAutomotiveSequence(const std::string& dir, const SimTraject
         if (!merged) dets.push_back(d);
         if (static_cast<int>(dets.size()) >= o.max_detections) break;
       }
-      std::sort(dets.begin(), dets.end(), [](const Detection& a, const Detection& b) {
-        return std::hypot(a.x, a.y) < std::hypot(b.x, b.y);
-      });
+      std::sort(dets.begin(), dets.end(),
+                [](const Detection& a, const Detection& b) { return std::hypot(a.x, a.y) < std::hypot(b.x, b.y); });
       total_detections += dets.size();
 
       const std::int64_t stamp = stampOf(t);
       const std::string folder = key[k] ? "samples" : "sweeps";
-      const std::string filename = folder + "/" + mount.channel + "/" + sequence.scene_name + "__" + mount.channel + "__" +
-                                   std::to_string(stamp) + ".pcd";
+      const std::string filename = folder + "/" + mount.channel + "/" + sequence.scene_name + "__" + mount.channel +
+                                   "__" + std::to_string(stamp) + ".pcd";
       writeNuScenesRadarPcd((fs::path(dir) / filename).string(), toPcdPoints(dets, o.doppler_sigma));
       const std::string ego_token = token(seed, 6, data_index);
       tables.addEgoPose(ego_token, stamp, quaternionYaw(pose.z()), {pose.x(), pose.y(), 0.0});
@@ -794,9 +833,10 @@ SequenceSummary writeAutomotiveSequence(const std::string& dir, const SimTraject
     }
   }
   tables.addLog(log_token, "radar_sim-seed-" + std::to_string(seed), "radar_sim", "", "simulated");
-  tables.addScene(scene_token, log_token, nsamples, token(seed, 3, 0), token(seed, 3, nsamples - 1), sequence.scene_name,
-                  "radar_sim automotive sequence, seed " + std::to_string(seed) + ", " + std::to_string(total_detections) +
-                      " detections");
+  tables.addScene(scene_token, log_token, nsamples, token(seed, 3, 0), token(seed, 3, nsamples - 1),
+                  sequence.scene_name,
+                  "radar_sim automotive sequence, seed " + std::to_string(seed) + ", " +
+                      std::to_string(total_detections) + " detections");
   tables.write(table_dir);
 
   SequenceSummary summary;

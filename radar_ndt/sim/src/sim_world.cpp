@@ -11,7 +11,9 @@ namespace radar_ndt {
 namespace sim {
 namespace {
 
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
 
 std::int64_t cellKey(long ix, long iy) {
   // Packed as unsigned: shifting a negative signed value is undefined before C++20 (UBSan).
@@ -44,13 +46,21 @@ SimTrajectory::SimTrajectory(std::vector<double> stamps, std::vector<Pose2> pose
   for (std::size_t k = 1; k < poses_.size(); ++k)
     arc_[k] = arc_[k - 1] + (poses_[k].head<2>() - poses_[k - 1].head<2>()).norm();
   // Direction of travel at each end: the nearest segment that moves (else the pose's heading).
-  auto direction = [&](std::size_t j) { return std::atan2(poses_[j + 1].y() - poses_[j].y(), poses_[j + 1].x() - poses_[j].x()); };
+  auto direction = [&](std::size_t j) {
+    return std::atan2(poses_[j + 1].y() - poses_[j].y(), poses_[j + 1].x() - poses_[j].x());
+  };
   start_heading_ = poses_.front().z();
   end_heading_ = poses_.back().z();
   for (std::size_t j = 0; j + 1 < poses_.size(); ++j)
-    if (arc_[j + 1] - arc_[j] > 0.05) { start_heading_ = direction(j); break; }
+    if (arc_[j + 1] - arc_[j] > 0.05) {
+      start_heading_ = direction(j);
+      break;
+    }
   for (std::size_t j = poses_.size() - 1; j > 0; --j)
-    if (arc_[j] - arc_[j - 1] > 0.05) { end_heading_ = direction(j - 1); break; }
+    if (arc_[j] - arc_[j - 1] > 0.05) {
+      end_heading_ = direction(j - 1);
+      break;
+    }
 }
 
 std::size_t SimTrajectory::segment(double t) const {
@@ -112,11 +122,14 @@ Pose2 SimTrajectory::atArc(double s) const {
 }
 
 SimTrajectory builtinDrive(double duration, double period) {
-  if (!(duration > period) || !(period > 0)) throw std::invalid_argument("radar_sim: the built-in drive needs duration > period > 0");
+  if (!(duration > period) || !(period > 0))
+    throw std::invalid_argument("radar_sim: the built-in drive needs duration > period > 0");
   // A repeating 60 s pattern of (seconds, target speed m/s, yaw rate rad/s).
-  struct Phase { double seconds, speed, yaw_rate; };
-  static const Phase kPattern[] = {{6, 8, 0},      {14, 12, 0},    {7, 6, kPi / 14}, {12, 11, 0},
-                                   {6, 5, -kPi / 12}, {5, 10, 0.04}, {4, 0, 0},       {6, 9, 0}};
+  struct Phase {
+    double seconds, speed, yaw_rate;
+  };
+  static const Phase kPattern[] = {{6, 8, 0},         {14, 12, 0},   {7, 6, kPi / 14}, {12, 11, 0},
+                                   {6, 5, -kPi / 12}, {5, 10, 0.04}, {4, 0, 0},        {6, 9, 0}};
   double pattern_length = 0;
   for (const Phase& p : kPattern) pattern_length += p.seconds;
   constexpr double kStep = 0.01, kAccel = 2.0;
@@ -204,11 +217,11 @@ class PathClearance {
  private:
   static constexpr double kCell = 12.0;
   void add(const Eigen::Vector2d& p) {
-    grid_[cellKey(static_cast<long>(std::floor(p.x() / kCell)), static_cast<long>(std::floor(p.y() / kCell)))].push_back(p);
+    grid_[cellKey(static_cast<long>(std::floor(p.x() / kCell)), static_cast<long>(std::floor(p.y() / kCell)))]
+        .push_back(p);
   }
   std::unordered_map<std::int64_t, std::vector<Eigen::Vector2d>> grid_;
 };
-
 
 namespace {
 
@@ -222,7 +235,8 @@ Eigen::Vector2d offsetPoint(const SimTrajectory& path, double s, double lateral)
 World World::generate(const SimTrajectory& path, const WorldOptions& o) {
   World w;
   w.path_ = &path;
-  if (o.mirror != 0.0 && o.mirror != 1.0) throw std::invalid_argument("radar_sim: the world setting mirror must be 0 or 1");
+  if (o.mirror != 0.0 && o.mirror != 1.0)
+    throw std::invalid_argument("radar_sim: the world setting mirror must be 0 or 1");
   Random rng(o.seed, 0x5eed);
   // Mirrored: every lateral offset and every orientation relative to the path is negated, with the
   // same random draws, so a seed gives the mirror image of its world (exact on a straight path).
@@ -316,7 +330,8 @@ World World::generate(const SimTrajectory& path, const WorldOptions& o) {
           if (!rng.chance(o.parked_car_probability)) continue;
           const Pose2 p = path.atArc(s + 3.0);
           const Eigen::Vector2d c = offsetPoint(path, s + 3.0, side * (half - 1.0));
-          addBox(c, p.z() + mirror * rng.uniform(-0.05, 0.05), rng.uniform(3.9, 4.9), rng.uniform(1.7, 1.95), Material::Car);
+          addBox(c, p.z() + mirror * rng.uniform(-0.05, 0.05), rng.uniform(3.9, 4.9), rng.uniform(1.7, 1.95),
+                 Material::Car);
         }
       }
       // Poles (lamp posts, signs) and street trees.
@@ -401,7 +416,8 @@ void World::index() {
       for (long y = y0; y <= y1; ++y) cell_items_.emplace_back(cellKey(x, y), id);
   };
   for (std::size_t i = 0; i < segments_.size(); ++i)
-    insertBox(segments_[i].a.cwiseMin(segments_[i].b), segments_[i].a.cwiseMax(segments_[i].b), static_cast<std::uint32_t>(i));
+    insertBox(segments_[i].a.cwiseMin(segments_[i].b), segments_[i].a.cwiseMax(segments_[i].b),
+              static_cast<std::uint32_t>(i));
   for (std::size_t i = 0; i < circles_.size(); ++i) {
     const Eigen::Vector2d r(circles_[i].r, circles_[i].r);
     insertBox(circles_[i].c - r, circles_[i].c + r, static_cast<std::uint32_t>(segments_.size() + i));
@@ -411,7 +427,9 @@ void World::index() {
   ray_id_ = 0;
 }
 
-double World::pathDistance(const Eigen::Vector2d& q) const { return clearance_ ? clearance_->distance(q) : 0.0; }
+double World::pathDistance(const Eigen::Vector2d& q) const {
+  return clearance_ ? clearance_->distance(q) : 0.0;
+}
 
 void World::moverState(const Mover& m, double t, Pose2& pose, Eigen::Vector2d& velocity) const {
   auto at = [&](double tt) {
@@ -494,8 +512,10 @@ void World::cast(const Eigen::Vector2d& o, double angle, double t, double max_ra
       const std::uint32_t id = it->second;
       if (mailbox_[id] == ray_id_) continue;
       mailbox_[id] = ray_id_;
-      if (id < nseg) testSegment(segments_[id].a, segments_[id].b, segments_[id].material, Eigen::Vector2d::Zero(), id);
-      else testCircle(circles_[id - nseg], id);
+      if (id < nseg)
+        testSegment(segments_[id].a, segments_[id].b, segments_[id].material, Eigen::Vector2d::Zero(), id);
+      else
+        testCircle(circles_[id - nseg], id);
     }
     if (next_x < next_y) {
       entry = next_x;
@@ -513,9 +533,11 @@ void World::cast(const Eigen::Vector2d& o, double angle, double t, double max_ra
     Eigen::Vector2d v;
     moverState(m, t, p, v);
     const Eigen::Vector2d c = p.head<2>(), u(std::cos(p.z()), std::sin(p.z())), n(-u.y(), u.x());
-    const Eigen::Vector2d q[4] = {c + 0.5 * m.length * u + 0.5 * m.width * n, c - 0.5 * m.length * u + 0.5 * m.width * n,
-                                  c - 0.5 * m.length * u - 0.5 * m.width * n, c + 0.5 * m.length * u - 0.5 * m.width * n};
-    for (int k = 0; k < 4; ++k) testSegment(q[k], q[(k + 1) % 4], m.material, v, kMoverBit | static_cast<std::uint32_t>(i));
+    const Eigen::Vector2d q[4] = {
+        c + 0.5 * m.length * u + 0.5 * m.width * n, c - 0.5 * m.length * u + 0.5 * m.width * n,
+        c - 0.5 * m.length * u - 0.5 * m.width * n, c + 0.5 * m.length * u - 0.5 * m.width * n};
+    for (int k = 0; k < 4; ++k)
+      testSegment(q[k], q[(k + 1) % 4], m.material, v, kMoverBit | static_cast<std::uint32_t>(i));
   }
   std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.range < b.range; });
   std::size_t keep = 0;

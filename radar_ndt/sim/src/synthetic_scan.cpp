@@ -50,8 +50,8 @@ std::vector<Segment> makeWorld(const SyntheticScanOptions& o, std::mt19937& rng)
 }
 
 /// Samples `n` points of the world seen from `pose` (world frame), expressed in that frame.
-void sampleScan(const std::vector<Segment>& world, const Pose2& pose, const SyntheticScanOptions& o,
-                std::mt19937& rng, pcl::PointCloud<PointRadar>& out) {
+void sampleScan(const std::vector<Segment>& world, const Pose2& pose, const SyntheticScanOptions& o, std::mt19937& rng,
+                pcl::PointCloud<PointRadar>& out) {
   std::vector<double> cum;
   double total = 0;
   for (const auto& s : world) cum.push_back(total += s.length());

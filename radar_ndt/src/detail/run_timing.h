@@ -10,8 +10,12 @@ namespace detail {
 
 using Clock = std::chrono::steady_clock;
 
-inline double msBetween(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
-inline double msSince(Clock::time_point t0) { return msBetween(t0, Clock::now()); }
+inline double msBetween(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+inline double msSince(Clock::time_point t0) {
+  return msBetween(t0, Clock::now());
+}
 
 /// The upper median (0 for no values).
 inline double median(std::vector<double> v) {

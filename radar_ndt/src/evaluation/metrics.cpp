@@ -114,7 +114,8 @@ SegmentError oneMeterError(const PosePairs& pairs, double length) {
   double st = 0, sr = 0;
   for (std::size_t first = 0; first < pairs.size(); ++first) {
     // the first pose whose path length from `first` reaches `length`
-    const auto it = std::lower_bound(dist.begin() + static_cast<std::ptrdiff_t>(first), dist.end(), dist[first] + length);
+    const auto it =
+        std::lower_bound(dist.begin() + static_cast<std::ptrdiff_t>(first), dist.end(), dist[first] + length);
     if (it == dist.end()) break;
     const std::size_t last = static_cast<std::size_t>(it - dist.begin());
     const double actual = dist[last] - dist[first];

@@ -14,7 +14,9 @@ Pose2 error(const Pose2& estimate, const Pose2& truth) {
   e.z() = normalizeAngle(e.z());
   return e;
 }
-bool reported(const Eigen::Matrix3d& c) { return c.allFinite() && c.determinant() > 0; }
+bool reported(const Eigen::Matrix3d& c) {
+  return c.allFinite() && c.determinant() > 0;
+}
 }  // namespace
 
 std::vector<MotionNoiseSample> motionNoiseSamples(const AutomotiveRunResult& run) {

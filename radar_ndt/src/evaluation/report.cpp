@@ -42,18 +42,10 @@ EvaluationReport evaluate(const PosePairs& pairs, const std::vector<Metric>& met
   r.associated_poses = pairs.size();
   for (Metric m : metrics) {
     switch (m) {
-      case Metric::Kitti:
-        r.kitti = kittiError(pairs, options.kitti_lengths, options.kitti_step);
-        break;
-      case Metric::OneMeter:
-        r.one_meter = oneMeterError(pairs, options.one_meter_length);
-        break;
-      case Metric::Frame:
-        r.frame = frameError(pairs, options.frame_step);
-        break;
-      case Metric::Ate:
-        r.ate = absoluteTrajectoryError(pairs);
-        break;
+      case Metric::Kitti: r.kitti = kittiError(pairs, options.kitti_lengths, options.kitti_step); break;
+      case Metric::OneMeter: r.one_meter = oneMeterError(pairs, options.one_meter_length); break;
+      case Metric::Frame: r.frame = frameError(pairs, options.frame_step); break;
+      case Metric::Ate: r.ate = absoluteTrajectoryError(pairs); break;
     }
   }
   return r;
@@ -146,13 +138,17 @@ nlohmann::json metricsObject(const EvaluationReport& r) {
   nlohmann::json m = nlohmann::json::object();
   if (r.kitti) m["kitti"] = segmentJson(*r.kitti);
   if (r.one_meter) m["1m"] = segmentJson(*r.one_meter);
-  if (r.frame) m["frame"] = {{"trans_err_m", r.frame->trans_err_m}, {"rot_err_deg", r.frame->rot_err_deg}, {"pairs", r.frame->pairs}};
+  if (r.frame)
+    m["frame"] = {
+        {"trans_err_m", r.frame->trans_err_m}, {"rot_err_deg", r.frame->rot_err_deg}, {"pairs", r.frame->pairs}};
   if (r.ate) m["ate"] = {{"rmse_m", r.ate->rmse_m}};
   return m;
 }
 }  // namespace
 
-std::string metricsJson(const EvaluationReport& report) { return metricsObject(report).dump(); }
+std::string metricsJson(const EvaluationReport& report) {
+  return metricsObject(report).dump();
+}
 
 std::string toJson(const EvaluationReport& report) {
   nlohmann::json j;
@@ -181,7 +177,8 @@ std::string formatTable(const EvaluationReport& r) {
       segment_row(name, pl.trans_err_pct, pl.rot_err_deg_per_m, pl.segments);
     }
     if (r.kitti->segments == 0 && !r.kitti->per_length.empty())
-      out << "         (no KITTI segment: the ground truth is shorter than " << r.kitti->per_length.front().length << " m)\n";
+      out << "         (no KITTI segment: the ground truth is shorter than " << r.kitti->per_length.front().length
+          << " m)\n";
   }
   if (r.one_meter) segment_row("1m", r.one_meter->trans_err_pct, r.one_meter->rot_err_deg_per_m, r.one_meter->segments);
   if (r.frame) {

@@ -39,13 +39,19 @@ std::string format(const char* fmt, ...) {
 
 }  // namespace
 
-double realTimeFactor(const AutomotiveRunResult& r) { return r.median_total_ms > 0 ? 1000.0 * r.period_s / r.median_total_ms : 0.0; }
-double realTimeFactor(const ScanningRunResult& r) { return r.period_s > 0 ? r.scans_per_second * r.period_s : 0.0; }
+double realTimeFactor(const AutomotiveRunResult& r) {
+  return r.median_total_ms > 0 ? 1000.0 * r.period_s / r.median_total_ms : 0.0;
+}
+double realTimeFactor(const ScanningRunResult& r) {
+  return r.period_s > 0 ? r.scans_per_second * r.period_s : 0.0;
+}
 
 std::string stepsCsv(const AutomotiveRunResult& r) {
   std::ostringstream csv;
-  csv << "timestamp_us,status,attempts,grid,chi2,dx,dy,dyaw,doppler_dx,doppler_dy,doppler_dyaw,source_points,target_points,"
-         "velocity_valid,gt_dx,gt_dy,gt_dyaw,match_dx,match_dy,match_dyaw,match_var_x,match_var_y,match_var_yaw,yaw_rate_bias\n";
+  csv << "timestamp_us,status,attempts,grid,chi2,dx,dy,dyaw,doppler_dx,doppler_dy,doppler_dyaw,source_points,target_"
+         "points,"
+         "velocity_valid,gt_dx,gt_dy,gt_dyaw,match_dx,match_dy,match_dyaw,match_var_x,match_var_y,match_var_yaw,yaw_"
+         "rate_bias\n";
   for (std::size_t k = 0; k < r.steps.size(); ++k) {
     const OdometryStep& s = r.steps[k];
     const Pose2 gt = k > 0 && k < r.ground_truth.size()
@@ -53,23 +59,24 @@ std::string stepsCsv(const AutomotiveRunResult& r) {
                          : Pose2::Zero();
     csv << s.timestamp_us << ',' << toString(s.status) << ',' << s.attempts << ',' << s.grid << ',' << s.chi2 << ','
         << s.motion.x() << ',' << s.motion.y() << ',' << s.motion.z() << ',' << s.doppler_motion.x() << ','
-        << s.doppler_motion.y() << ',' << s.doppler_motion.z() << ',' << s.source_points << ',' << s.target_points << ','
-        << s.velocity_valid << ',' << gt.x() << ',' << gt.y() << ',' << gt.z() << ',' << s.match_motion.x() << ','
-        << s.match_motion.y() << ',' << s.match_motion.z() << ',' << s.match_covariance(0, 0) << ',' << s.match_covariance(1, 1)
-        << ',' << s.match_covariance(2, 2) << ',' << s.yaw_rate_bias << '\n';
+        << s.doppler_motion.y() << ',' << s.doppler_motion.z() << ',' << s.source_points << ',' << s.target_points
+        << ',' << s.velocity_valid << ',' << gt.x() << ',' << gt.y() << ',' << gt.z() << ',' << s.match_motion.x()
+        << ',' << s.match_motion.y() << ',' << s.match_motion.z() << ',' << s.match_covariance(0, 0) << ','
+        << s.match_covariance(1, 1) << ',' << s.match_covariance(2, 2) << ',' << s.yaw_rate_bias << '\n';
   }
   return csv.str();
 }
 
 std::string stepsCsv(const ScanningRunResult& r) {
   std::ostringstream csv;
-  csv << "timestamp_us,status,attempts,grid,power_shift,compensation_rounds,slow,dx,dy,dyaw,guess_dx,guess_dy,guess_dyaw,"
+  csv << "timestamp_us,status,attempts,grid,power_shift,compensation_rounds,slow,dx,dy,dyaw,guess_dx,guess_dy,guess_"
+         "dyaw,"
          "source_points,target_points,match_ms,keyframe\n";
   for (const OdometryStep& s : r.steps)
-    csv << s.timestamp_us << ',' << toString(s.status) << ',' << s.attempts << ',' << s.grid << ',' << s.power_shift << ','
-        << s.compensation_rounds << ',' << s.slow << ',' << s.motion.x() << ',' << s.motion.y() << ',' << s.motion.z() << ','
-        << s.doppler_motion.x() << ',' << s.doppler_motion.y() << ',' << s.doppler_motion.z() << ',' << s.source_points << ','
-        << s.target_points << ',' << s.match_ms << ',' << s.keyframe << '\n';
+    csv << s.timestamp_us << ',' << toString(s.status) << ',' << s.attempts << ',' << s.grid << ',' << s.power_shift
+        << ',' << s.compensation_rounds << ',' << s.slow << ',' << s.motion.x() << ',' << s.motion.y() << ','
+        << s.motion.z() << ',' << s.doppler_motion.x() << ',' << s.doppler_motion.y() << ',' << s.doppler_motion.z()
+        << ',' << s.source_points << ',' << s.target_points << ',' << s.match_ms << ',' << s.keyframe << '\n';
   return csv.str();
 }
 
@@ -89,8 +96,10 @@ std::string summaryJson(const AutomotiveRunResult& r, const EvaluationReport* me
   j["detections"] = r.detections;
   j["removed_moving"] = r.removed_moving;
   j["median_doppler_residual_mps"] = r.median_doppler_residual;
-  j["ms_per_cycle_median"] = {{"read", r.median_ms.read_ms},     {"front_end", r.median_ms.front_end_ms},
-                              {"submap", r.median_ms.submap_ms}, {"match", r.median_ms.match_ms},
+  j["ms_per_cycle_median"] = {{"read", r.median_ms.read_ms},
+                              {"front_end", r.median_ms.front_end_ms},
+                              {"submap", r.median_ms.submap_ms},
+                              {"match", r.median_ms.match_ms},
                               {"total", r.median_total_ms}};
   j["real_time_factor"] = realTimeFactor(r);
   if (metrics) j["metrics"] = json::parse(metricsJson(*metrics));
@@ -111,8 +120,8 @@ std::string summaryJson(const ScanningRunResult& r, const EvaluationReport* metr
   j["attempts_not_converged"] = c.not_converged;
   j["attempts_rejected_by_motion_prior"] = c.rejected;
   j["attempts_rejected_for_poor_fit"] = c.poor_fit;
-  j["unreadable_files"] = c.bridged;    // scans that could not be read or had no noise floor
-  j["problems"] = r.problems.size();    // those, bad index lines and steps no match passed for
+  j["unreadable_files"] = c.bridged;  // scans that could not be read or had no noise floor
+  j["problems"] = r.problems.size();  // those, bad index lines and steps no match passed for
   j["points_per_scan_median"] = r.median_points;
   j["ms_per_scan_median"] = {{"decode", r.median_ms.read_ms},
                              {"front_end", r.median_ms.front_end_ms},
@@ -126,32 +135,39 @@ std::string summaryJson(const ScanningRunResult& r, const EvaluationReport* metr
 
 std::string summaryText(const AutomotiveRunResult& r) {
   const auto& c = r.counters;
-  std::string s = format("%s: %zu cycles (reference %s, %.1f Hz), matched %zu, retried %zu, fallbacks %zu (%.1f %%), %zu problems (unreadable sweeps, silent radars)\n",
-                         r.scene.c_str(), c.cycles, r.reference_channel.c_str(), r.period_s > 0 ? 1.0 / r.period_s : 0.0,
-                         c.matched, c.retried, c.fallbacks, percent(c.fallbacks, c.cycles), r.problems.size());
-  s += format("  %zu detections, %.1f %% removed as moving; Doppler fit residual %.3f m/s (median), %zu cycles without a valid "
-              "ego-velocity\n",
-              r.detections, percent(r.removed_moving, r.detections), r.median_doppler_residual, r.invalid_velocity_cycles);
+  std::string s = format(
+      "%s: %zu cycles (reference %s, %.1f Hz), matched %zu, retried %zu, fallbacks %zu (%.1f %%), %zu problems "
+      "(unreadable sweeps, silent radars)\n",
+      r.scene.c_str(), c.cycles, r.reference_channel.c_str(), r.period_s > 0 ? 1.0 / r.period_s : 0.0, c.matched,
+      c.retried, c.fallbacks, percent(c.fallbacks, c.cycles), r.problems.size());
+  s += format(
+      "  %zu detections, %.1f %% removed as moving; Doppler fit residual %.3f m/s (median), %zu cycles without a valid "
+      "ego-velocity\n",
+      r.detections, percent(r.removed_moving, r.detections), r.median_doppler_residual, r.invalid_velocity_cycles);
   if (r.nonholonomic_velocity_cycles > 0)
-    s += format("  ego-velocity with vy = 0 (radars at one place: yaw rate from the single-radar model) in %zu cycles\n",
-                r.nonholonomic_velocity_cycles);
-  s += format("  ms per cycle (median): read %.2f, front-end %.2f, submap %.2f, match %.2f, total %.2f (%.0fx real time)\n",
-              r.median_ms.read_ms, r.median_ms.front_end_ms, r.median_ms.submap_ms, r.median_ms.match_ms, r.median_total_ms,
-              realTimeFactor(r));
+    s +=
+        format("  ego-velocity with vy = 0 (radars at one place: yaw rate from the single-radar model) in %zu cycles\n",
+               r.nonholonomic_velocity_cycles);
+  s += format(
+      "  ms per cycle (median): read %.2f, front-end %.2f, submap %.2f, match %.2f, total %.2f (%.0fx real time)\n",
+      r.median_ms.read_ms, r.median_ms.front_end_ms, r.median_ms.submap_ms, r.median_ms.match_ms, r.median_total_ms,
+      realTimeFactor(r));
   return s;
 }
 
 std::string summaryText(const ScanningRunResult& r) {
   const auto& c = r.counters;
-  std::string s = format("%s: %zu scans (%s, %.2f Hz), %.0f points/scan; matched %zu, retried %zu, fallbacks %zu (%.1f %%), "
-                         "s halved %zu, slow grid %zu, bridged %zu, skipped %zu; %zu problems\n",
-                         r.sequence.c_str(), c.cycles, toString(r.format), r.period_s > 0 ? 1.0 / r.period_s : 0.0, r.median_points,
-                         c.matched, c.retried, c.fallbacks, percent(c.fallbacks, c.cycles), c.shift_halved, c.slow, c.bridged,
-                         c.skipped, r.problems.size());
-  s += format("  ms per scan (median, one core): decode %.2f, front-end %.2f, match %.2f, total %.2f; end to end %.1f scans/s "
-              "(%s), %.0fx real time\n",
-              r.median_ms.read_ms, r.median_ms.front_end_ms, r.median_ms.match_ms, r.median_total_ms, r.scans_per_second,
-              r.prefetch ? "decode on a second thread" : "one thread", realTimeFactor(r));
+  std::string s = format(
+      "%s: %zu scans (%s, %.2f Hz), %.0f points/scan; matched %zu, retried %zu, fallbacks %zu (%.1f %%), "
+      "s halved %zu, slow grid %zu, bridged %zu, skipped %zu; %zu problems\n",
+      r.sequence.c_str(), c.cycles, toString(r.format), r.period_s > 0 ? 1.0 / r.period_s : 0.0, r.median_points,
+      c.matched, c.retried, c.fallbacks, percent(c.fallbacks, c.cycles), c.shift_halved, c.slow, c.bridged, c.skipped,
+      r.problems.size());
+  s += format(
+      "  ms per scan (median, one core): decode %.2f, front-end %.2f, match %.2f, total %.2f; end to end %.1f scans/s "
+      "(%s), %.0fx real time\n",
+      r.median_ms.read_ms, r.median_ms.front_end_ms, r.median_ms.match_ms, r.median_total_ms, r.scans_per_second,
+      r.prefetch ? "decode on a second thread" : "one thread", realTimeFactor(r));
   return s;
 }
 

@@ -51,7 +51,8 @@ ScanStatistics scanStatistics(const PolarScan& scan, const ScanStatisticsOptions
     }
     for (double p : options.percentiles) {
       // Nearest rank: the smallest value with at least p % of the bins at or below it.
-      const std::size_t rank = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(p / 100.0 * static_cast<double>(s.bins))));
+      const std::size_t rank =
+          std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(p / 100.0 * static_cast<double>(s.bins))));
       std::size_t cum = 0;
       int v = 0;
       for (; v < 255; ++v) {
@@ -65,7 +66,8 @@ ScanStatistics scanStatistics(const PolarScan& scan, const ScanStatisticsOptions
   return out;
 }
 
-ScanStatistics scanStatistics(const PolarScan& scan, const PowerThreshold& front_end, const ScanStatisticsOptions& options) {
+ScanStatistics scanStatistics(const PolarScan& scan, const PowerThreshold& front_end,
+                              const ScanStatisticsOptions& options) {
   ScanStatistics st = scanStatistics(scan, options);
   pcl::PointCloud<PointRadar> cloud;
   front_end.compute(scan, cloud);
@@ -79,7 +81,8 @@ StatisticsSummary summarize(const std::vector<ScanStatistics>& scans) {
   for (const ScanStatistics& s : scans) {
     if (s.bands.size() != first.bands.size()) throw std::invalid_argument("summarize: scans with different bands");
     for (std::size_t i = 0; i < s.bands.size(); ++i)
-      if (s.bands[i].above.size() != first.bands[i].above.size() || s.bands[i].percentile.size() != first.bands[i].percentile.size())
+      if (s.bands[i].above.size() != first.bands[i].above.size() ||
+          s.bands[i].percentile.size() != first.bands[i].percentile.size())
         throw std::invalid_argument("summarize: scans with different levels or percentiles");
   }
   StatisticsSummary out;
@@ -101,7 +104,8 @@ StatisticsSummary summarize(const std::vector<ScanStatistics>& scans) {
     field([i](const ScanStatistics& s) { return static_cast<double>(s.bands[i].bins); },
           [i](ScanStatistics& s, double x) { s.bands[i].bins = static_cast<std::size_t>(std::lround(x)); });
     for (std::size_t j = 0; j < first.bands[i].above.size(); ++j)
-      field([i, j](const ScanStatistics& s) { return s.bands[i].above[j]; }, [i, j](ScanStatistics& s, double x) { s.bands[i].above[j] = x; });
+      field([i, j](const ScanStatistics& s) { return s.bands[i].above[j]; },
+            [i, j](ScanStatistics& s, double x) { s.bands[i].above[j] = x; });
     for (std::size_t j = 0; j < first.bands[i].percentile.size(); ++j)
       field([i, j](const ScanStatistics& s) { return s.bands[i].percentile[j]; },
             [i, j](ScanStatistics& s, double x) { s.bands[i].percentile[j] = x; });
@@ -126,7 +130,8 @@ RealismCheck compareRealism(const ScanStatistics& sim, const ScanStatistics& rea
       check.error += std::pow(std::min(std::abs(s.above[j] - r.above[j]) / allowed, 5.0), 2);
       check.within.push_back(std::abs(s.above[j] - r.above[j]) <= allowed + 1e-12);
       if (!check.within.back()) {
-        std::snprintf(line, sizeof line, "%g-%g m, above %g: %.4f vs %.4f", r.band.lo, r.band.hi, options.levels[j], s.above[j], r.above[j]);
+        std::snprintf(line, sizeof line, "%g-%g m, above %g: %.4f vs %.4f", r.band.lo, r.band.hi, options.levels[j],
+                      s.above[j], r.above[j]);
         check.failures.push_back(line);
       }
     }
@@ -135,8 +140,8 @@ RealismCheck compareRealism(const ScanStatistics& sim, const ScanStatistics& rea
       check.error += std::pow(std::min(std::abs(s.percentile[j] - r.percentile[j]) / tol.percentile_absolute, 5.0), 2);
       check.within.push_back(std::abs(s.percentile[j] - r.percentile[j]) <= tol.percentile_absolute + 1e-9);
       if (!check.within.back()) {
-        std::snprintf(line, sizeof line, "%g-%g m, p%g: %.0f/255 vs %.0f/255", r.band.lo, r.band.hi, options.percentiles[j],
-                      255 * s.percentile[j], 255 * r.percentile[j]);
+        std::snprintf(line, sizeof line, "%g-%g m, p%g: %.0f/255 vs %.0f/255", r.band.lo, r.band.hi,
+                      options.percentiles[j], 255 * s.percentile[j], 255 * r.percentile[j]);
         check.failures.push_back(line);
       }
     }

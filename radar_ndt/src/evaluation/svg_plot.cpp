@@ -19,10 +19,14 @@ struct Box {
 std::string esc(const std::string& s) {
   std::string o;
   for (char c : s) {
-    if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '&') o += "&amp;";
-    else o += c;
+    if (c == '<')
+      o += "&lt;";
+    else if (c == '>')
+      o += "&gt;";
+    else if (c == '&')
+      o += "&amp;";
+    else
+      o += c;
   }
   return o;
 }
@@ -48,15 +52,26 @@ class Chart {
  public:
   Chart(std::ostringstream& out, Box box, double xmin, double xmax, double ymin, double ymax, bool equal_axes)
       : out_(out), box_(box) {
-    if (!(xmax > xmin)) { xmin -= 1; xmax += 1; }
-    if (!(ymax > ymin)) { ymin -= 1; ymax += 1; }
+    if (!(xmax > xmin)) {
+      xmin -= 1;
+      xmax += 1;
+    }
+    if (!(ymax > ymin)) {
+      ymin -= 1;
+      ymax += 1;
+    }
     if (equal_axes) {  // same metres per pixel on both axes, centred
       const double s = std::max((xmax - xmin) / box.w, (ymax - ymin) / box.h);
       const double cx = 0.5 * (xmin + xmax), cy = 0.5 * (ymin + ymax);
-      xmin = cx - 0.5 * s * box.w; xmax = cx + 0.5 * s * box.w;
-      ymin = cy - 0.5 * s * box.h; ymax = cy + 0.5 * s * box.h;
+      xmin = cx - 0.5 * s * box.w;
+      xmax = cx + 0.5 * s * box.w;
+      ymin = cy - 0.5 * s * box.h;
+      ymax = cy + 0.5 * s * box.h;
     }
-    xmin_ = xmin; xmax_ = xmax; ymin_ = ymin; ymax_ = ymax;
+    xmin_ = xmin;
+    xmax_ = xmax;
+    ymin_ = ymin;
+    ymax_ = ymax;
   }
   double px(double x) const { return box_.x0 + (x - xmin_) / (xmax_ - xmin_) * box_.w; }
   double py(double y) const { return box_.y0 + box_.h - (y - ymin_) / (ymax_ - ymin_) * box_.h; }
@@ -128,8 +143,8 @@ void writeEvaluationSvg(const std::string& path, const PosePairs& pairs, const E
                         const std::string& title) {
   const double W = 1200, H = 600;
   std::ostringstream out;
-  out << "<?xml version='1.0' encoding='UTF-8'?>\n<svg xmlns='http://www.w3.org/2000/svg' width='" << W
-      << "' height='" << H << "' viewBox='0 0 " << W << ' ' << H << "' font-family='sans-serif'>\n";
+  out << "<?xml version='1.0' encoding='UTF-8'?>\n<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='"
+      << H << "' viewBox='0 0 " << W << ' ' << H << "' font-family='sans-serif'>\n";
   out << "<rect width='100%' height='100%' fill='white'/>\n";
   out << "<text x='" << W / 2 << "' y='22' font-size='16' text-anchor='middle'>" << esc(title) << "</text>\n";
 
@@ -153,7 +168,8 @@ void writeEvaluationSvg(const std::string& path, const PosePairs& pairs, const E
   if (!gx.empty()) {
     out << "<circle cx='" << num(top.px(gx[0])) << "' cy='" << num(top.py(gy[0]))
         << "' r='6' fill='none' stroke='black' stroke-width='2'/>\n";
-    out << "<text x='" << num(top.px(gx[0]) + 9) << "' y='" << num(top.py(gy[0]) - 9) << "' font-size='12'>start</text>\n";
+    out << "<text x='" << num(top.px(gx[0]) + 9) << "' y='" << num(top.py(gy[0]) - 9)
+        << "' font-size='12'>start</text>\n";
   }
   top.legend(0, "ground truth", "#1f77b4");
   top.legend(1, "estimate", "#d62728");
@@ -168,7 +184,10 @@ void writeEvaluationSvg(const std::string& path, const PosePairs& pairs, const E
         re.push_back(pl.rot_err_deg_per_m * 100.0);
       }
     double l0 = 0, l1 = 1, t0 = 0, t1 = 1e-9, r0 = 0, r1 = 1e-9;
-    if (!L.empty()) { l0 = L.front(); l1 = L.back(); }
+    if (!L.empty()) {
+      l0 = L.front();
+      l1 = L.back();
+    }
     range(te, t0, t1);
     range(re, r0, r1);
     Chart ct(out, Box{700, 40, 460, 210}, l0, l1, 0, t1 * 1.1, false);

@@ -1,10 +1,10 @@
 #include "radar_ndt/frontend/ego_velocity.h"
 
 #include <cmath>
-#include <stdexcept>
-#include <string>
 #include <limits>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -35,8 +35,9 @@ constexpr double kFreeLateral = 1.0;
 /// else x, the normal matrix (prior included), the inlier flags and their residual sum of squares.
 template <int D, typename Full>
 bool fitDoppler(const std::vector<Eigen::Matrix<double, D, 1>>& rows, const std::vector<double>& rhs,
-                const EgoVelocityOptions& o, Full full, int prior_index, double prior_sigma, Eigen::Matrix<double, D, 1>* x_out,
-                Eigen::Matrix<double, D, D>* ata_out, std::vector<char>* in_out, double* rss_out) {
+                const EgoVelocityOptions& o, Full full, int prior_index, double prior_sigma,
+                Eigen::Matrix<double, D, 1>* x_out, Eigen::Matrix<double, D, D>* ata_out, std::vector<char>* in_out,
+                double* rss_out) {
   using Vec = Eigen::Matrix<double, D, 1>;
   using Mat = Eigen::Matrix<double, D, D>;
   const std::size_t n = rows.size();
@@ -165,7 +166,8 @@ void EgoVelocityOptions::validate() const {
     fail("lateral_sigma must be >= 0 (0: no prior), got " + std::to_string(lateral_sigma));
 }
 
-EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings,
+EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cloud,
+                                           const std::vector<SensorMounting>& mountings,
                                            std::vector<bool>* inlier) const {
   EgoVelocity out;
   if (inlier) inlier->assign(cloud.size(), false);
@@ -213,8 +215,9 @@ EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cl
     for (const auto& a : rows) rows2.emplace_back(a.x(), a.z());
     Eigen::Vector2d x;
     Eigen::Matrix2d AtA;
-    if (!fitDoppler<2>(rows2, rhs, options_, [](const Eigen::Vector2d& y) { return Eigen::Vector3d(y.x(), 0.0, y.y()); }, -1, 0.0, &x,
-                       &AtA, &in, &rss))
+    if (!fitDoppler<2>(
+            rows2, rhs, options_, [](const Eigen::Vector2d& y) { return Eigen::Vector3d(y.x(), 0.0, y.y()); }, -1, 0.0,
+            &x, &AtA, &in, &rss))
       return out;
     out.velocity = Eigen::Vector3d(x.x(), 0.0, x.y());
     const Eigen::Matrix2d C = AtA.inverse();
@@ -226,8 +229,9 @@ EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cl
     Eigen::Vector3d x;
     Eigen::Matrix3d AtA;
     const bool prior = options_.lateral_sigma > 0;
-    if (!fitDoppler<3>(rows, rhs, options_, [](const Eigen::Vector3d& y) { return y; }, prior ? 1 : -1, options_.lateral_sigma, &x, &AtA,
-                       &in, &rss))
+    if (!fitDoppler<3>(
+            rows, rhs, options_, [](const Eigen::Vector3d& y) { return y; }, prior ? 1 : -1, options_.lateral_sigma, &x,
+            &AtA, &in, &rss))
       return out;
     out.velocity = x;
     out.covariance = AtA.inverse();
@@ -238,11 +242,14 @@ EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cl
   out.residual_rms = std::sqrt(rss / static_cast<double>(m_final));
   // σ² from the residuals, floored at the ARS408's Doppler resolution (0.1 km/h ≈ 0.03 m/s) so a
   // lucky tight fit does not claim more than the sensor can give.
-  const double sigma2 = std::max(rss / static_cast<double>(std::max(m_final, dims + 1) - dims), kDopplerFloor * kDopplerFloor);
+  const double sigma2 =
+      std::max(rss / static_cast<double>(std::max(m_final, dims + 1) - dims), kDopplerFloor * kDopplerFloor);
   out.covariance *= sigma2;
-  if (nonholonomic) out.covariance(1, 1) = options_.lateral_sigma > 0 ? options_.lateral_sigma * options_.lateral_sigma : kFreeLateral;
+  if (nonholonomic)
+    out.covariance(1, 1) = options_.lateral_sigma > 0 ? options_.lateral_sigma * options_.lateral_sigma : kFreeLateral;
   out.valid = m_final >= options_.min_inliers &&
-              static_cast<double>(m_final) >= options_.min_inlier_ratio * static_cast<double>(n) && out.covariance.allFinite();
+              static_cast<double>(m_final) >= options_.min_inlier_ratio * static_cast<double>(n) &&
+              out.covariance.allFinite();
   if (inlier)
     for (std::size_t i = 0; i < n; ++i) (*inlier)[index[i]] = in[i] != 0;
   return out;

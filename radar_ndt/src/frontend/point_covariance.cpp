@@ -13,7 +13,9 @@ PointCovarianceModel parsePointCovarianceModel(const std::string& name) {
   throw std::invalid_argument("unknown point covariance model '" + name + "' (polar or rms)");
 }
 
-const char* toString(PointCovarianceModel model) { return model == PointCovarianceModel::Polar ? "polar" : "rms"; }
+const char* toString(PointCovarianceModel model) {
+  return model == PointCovarianceModel::Polar ? "polar" : "rms";
+}
 
 Eigen::Matrix2d polarCovariance(double x, double y, const PolarAccuracy& a) {
   const double r = std::hypot(x, y);
@@ -21,14 +23,16 @@ Eigen::Matrix2d polarCovariance(double x, double y, const PolarAccuracy& a) {
   const double sr = r <= a.near_range ? a.range_sigma_near : a.range_sigma_far;
   const double edge = a.edge_azimuth_deg * kPi / 180.0;
   const double frac = edge > 0 ? std::min(std::abs(az) / edge, 1.0) : 1.0;
-  const double sa = (a.azimuth_sigma_center_deg + frac * (a.azimuth_sigma_edge_deg - a.azimuth_sigma_center_deg)) * kPi / 180.0;
+  const double sa =
+      (a.azimuth_sigma_center_deg + frac * (a.azimuth_sigma_edge_deg - a.azimuth_sigma_center_deg)) * kPi / 180.0;
   // J = ∂(x, y)/∂(r, θ) = [[cos θ, −r sin θ], [sin θ, r cos θ]]; Σ = J diag(σr², σθ²) Jᵀ.
   Eigen::Matrix2d J;
   J << std::cos(az), -r * std::sin(az), std::sin(az), r * std::cos(az);
   return J * Eigen::Vector2d(sr * sr, sa * sa).asDiagonal() * J.transpose();
 }
 
-void setPointCovariances(pcl::PointCloud<PointRadar>& cloud, double yaw, PointCovarianceModel model, const PolarAccuracy& accuracy) {
+void setPointCovariances(pcl::PointCloud<PointRadar>& cloud, double yaw, PointCovarianceModel model,
+                         const PolarAccuracy& accuracy) {
   Eigen::Matrix2d R;
   R << std::cos(yaw), -std::sin(yaw), std::sin(yaw), std::cos(yaw);
   for (auto& p : cloud) {

@@ -110,14 +110,18 @@ void PowerThresholdOptions::validate() const {
   if (!(min_range >= 0)) fail("min_range must be >= 0, got " + std::to_string(min_range));
   if (!(max_range > min_range) || !std::isfinite(max_range))
     fail("max_range must exceed min_range (" + std::to_string(min_range) + " m), got " + std::to_string(max_range));
-  if (!(threshold >= 0.0f && threshold < 1.0f)) fail("threshold must be in [0, 1) (power is 0..1), got " + std::to_string(threshold));
+  if (!(threshold >= 0.0f && threshold < 1.0f))
+    fail("threshold must be in [0, 1) (power is 0..1), got " + std::to_string(threshold));
   if (!(beam_width_deg > 0) || !std::isfinite(beam_width_deg)) fail("beam_width_deg must be > 0");
 }
 
-PowerThreshold::PowerThreshold(const PowerThresholdOptions& options) : options_(options) { options_.validate(); }
+PowerThreshold::PowerThreshold(const PowerThresholdOptions& options) : options_(options) {
+  options_.validate();
+}
 
 const PowerThreshold::Geometry& PowerThreshold::geometry(const PolarScan& scan) const {
-  if (scan.azimuths < 2 || scan.bins < 2) throw std::invalid_argument("PowerThreshold: scan has fewer than 2 azimuths or bins");
+  if (scan.azimuths < 2 || scan.bins < 2)
+    throw std::invalid_argument("PowerThreshold: scan has fewer than 2 azimuths or bins");
   if (scan.azimuths > 65535) throw std::invalid_argument("PowerThreshold: more than 65535 azimuths");
   if (geometry_ && geometry_->bins == scan.bins && geometry_->range_resolution == scan.range_resolution &&
       geometry_->range_offset_bins == scan.range_offset_bins && geometry_->angles == scan.angle)
@@ -270,22 +274,23 @@ void PowerThreshold::compute(const PolarScan& scan, pcl::PointCloud<PointRadar>&
     const CartesianImage& img = g.layout;
     const double pixel_var = img.resolution * img.resolution / 12.0;
     const float threshold = options_.threshold;
-    forEachBlockPixel(g, scan, &threshold, [&](std::uint32_t i, const std::uint8_t* r0, const std::uint8_t* r1, int a0) {
-      const float p = samplePixel(g, r0, r1, i);
-      if (!(p > threshold)) return;
-      const int row = static_cast<int>(g.pixel[i]) / img.size, col = static_cast<int>(g.pixel[i]) % img.size;
-      const double x = img.x(row), y = img.y(col);
-      const double range = std::sqrt(x * x + y * y);  // > 0: min_range >= 0 and pixel centres are off the origin
-      PointRadar pt;
-      pt.x = static_cast<float>(x);
-      pt.y = static_cast<float>(y);
-      pt.z = 0.0f;
-      pt.power = p;
-      setPolarCovariance(pt, range, x / range, y / range, sigma_r, sigma_theta, pixel_var);
-      const int a = g.wa[i] < 0.5f ? a0 : g.next[a0];
-      pt.time_offset = static_cast<float>((scan.stamp_us[a] - scan.stamp) * 1e-6);
-      out.push_back(pt);
-    });
+    forEachBlockPixel(
+        g, scan, &threshold, [&](std::uint32_t i, const std::uint8_t* r0, const std::uint8_t* r1, int a0) {
+          const float p = samplePixel(g, r0, r1, i);
+          if (!(p > threshold)) return;
+          const int row = static_cast<int>(g.pixel[i]) / img.size, col = static_cast<int>(g.pixel[i]) % img.size;
+          const double x = img.x(row), y = img.y(col);
+          const double range = std::sqrt(x * x + y * y);  // > 0: min_range >= 0 and pixel centres are off the origin
+          PointRadar pt;
+          pt.x = static_cast<float>(x);
+          pt.y = static_cast<float>(y);
+          pt.z = 0.0f;
+          pt.power = p;
+          setPolarCovariance(pt, range, x / range, y / range, sigma_r, sigma_theta, pixel_var);
+          const int a = g.wa[i] < 0.5f ? a0 : g.next[a0];
+          pt.time_offset = static_cast<float>((scan.stamp_us[a] - scan.stamp) * 1e-6);
+          out.push_back(pt);
+        });
   } else {
     for (int a = 0; a < scan.azimuths; ++a) {
       const std::uint8_t* row = scan.row(a);

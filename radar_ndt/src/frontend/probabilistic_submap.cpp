@@ -29,7 +29,8 @@ Eigen::Matrix3d motionCovariance(const Eigen::Vector3d& v, const Eigen::Matrix3d
   return J * velocity_cov * J.transpose() * (dt * dt);
 }
 
-void transformWithUncertainty(pcl::PointCloud<PointRadar>& cloud, const Pose2& motion, const Eigen::Matrix3d& motion_cov) {
+void transformWithUncertainty(pcl::PointCloud<PointRadar>& cloud, const Pose2& motion,
+                              const Eigen::Matrix3d& motion_cov) {
   const double c = std::cos(motion.z()), s = std::sin(motion.z());
   Eigen::Matrix2d Rt;  // R(−θ)
   Rt << c, s, -s, c;
@@ -51,7 +52,8 @@ void transformWithUncertainty(pcl::PointCloud<PointRadar>& cloud, const Pose2& m
   }
 }
 
-void ProbabilisticSubmap::add(const pcl::PointCloud<PointRadar>& cycle, const Eigen::Vector3d& v, const Eigen::Matrix3d& cov, double dt) {
+void ProbabilisticSubmap::add(const pcl::PointCloud<PointRadar>& cycle, const Eigen::Vector3d& v,
+                              const Eigen::Matrix3d& cov, double dt) {
   if (clouds_.empty()) {
     last_motion_.setZero();
     last_motion_cov_.setZero();
@@ -81,6 +83,8 @@ pcl::PointCloud<PointRadar>::Ptr concatenateCycles(const std::deque<pcl::PointCl
   return out;
 }
 
-pcl::PointCloud<PointRadar>::Ptr ProbabilisticSubmap::cloud() const { return concatenateCycles(clouds_); }
+pcl::PointCloud<PointRadar>::Ptr ProbabilisticSubmap::cloud() const {
+  return concatenateCycles(clouds_);
+}
 
 }  // namespace radar_ndt

@@ -10,13 +10,15 @@
 
 namespace radar_ndt {
 
-std::vector<CyclePlan> planRadarCycles(const std::vector<SweepStamp>& sweeps, std::uint16_t reference_channel, std::int64_t period_us) {
+std::vector<CyclePlan> planRadarCycles(const std::vector<SweepStamp>& sweeps, std::uint16_t reference_channel,
+                                       std::int64_t period_us) {
   std::vector<std::size_t> refs;
   for (std::size_t i = 0; i < sweeps.size(); ++i)
     if (sweeps[i].channel == reference_channel) refs.push_back(i);
   if (period_us <= 0) {
     std::vector<std::int64_t> gaps;
-    for (std::size_t k = 1; k < refs.size(); ++k) gaps.push_back(sweeps[refs[k]].timestamp_us - sweeps[refs[k - 1]].timestamp_us);
+    for (std::size_t k = 1; k < refs.size(); ++k)
+      gaps.push_back(sweeps[refs[k]].timestamp_us - sweeps[refs[k - 1]].timestamp_us);
     if (gaps.empty()) {
       period_us = 1;
     } else {

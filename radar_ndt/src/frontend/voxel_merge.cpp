@@ -21,8 +21,9 @@ void mergeVoxels(const pcl::PointCloud<PointRadar>& in, double size, pcl::PointC
     if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
     const double u = std::floor(p.x * inv), v = std::floor(p.y * inv);
     if (std::abs(u) > 1e9 || std::abs(v) > 1e9) continue;
-    const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(static_cast<std::int32_t>(u))) << 32) |
-                              static_cast<std::uint32_t>(static_cast<std::int32_t>(v));
+    const std::uint64_t key =
+        (static_cast<std::uint64_t>(static_cast<std::uint32_t>(static_cast<std::int32_t>(u))) << 32) |
+        static_cast<std::uint32_t>(static_cast<std::int32_t>(v));
     const auto [it, inserted] = index.emplace(key, static_cast<std::int32_t>(out.size()));
     const std::int32_t i = it->second;
     if (inserted) {

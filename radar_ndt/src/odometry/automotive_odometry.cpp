@@ -147,8 +147,9 @@ void AutomotiveOdometry::keepForNextMatch(const ProcessedCycle& cycle, const Eig
 }
 
 Pose2 AutomotiveOdometry::matchWithRetries(const ProcessedCycle& cycle, const pcl::PointCloud<PointRadar>::Ptr& source,
-                                           std::size_t newest_begin, const pcl::PointCloud<PointRadar>::Ptr& target, const Pose2& guess,
-                                           const Eigen::Matrix3d& guess_cov, double dt, OdometryStep& step) {
+                                           std::size_t newest_begin, const pcl::PointCloud<PointRadar>::Ptr& target,
+                                           const Pose2& guess, const Eigen::Matrix3d& guess_cov, double dt,
+                                           OdometryStep& step) {
   const auto t0 = detail::Clock::now();
   RadarRegistration& matcher = matcher_.registration();
   Pose2 motion = guess;
@@ -193,8 +194,9 @@ Pose2 AutomotiveOdometry::matchWithRetries(const ProcessedCycle& cycle, const pc
   return motion;
 }
 
-void AutomotiveOdometry::weightByDoppler(pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings,
-                                         const Eigen::Vector3d& v, std::size_t first) const {
+void AutomotiveOdometry::weightByDoppler(pcl::PointCloud<PointRadar>& cloud,
+                                         const std::vector<SensorMounting>& mountings, const Eigen::Vector3d& v,
+                                         std::size_t first) const {
   // Each point's Doppler against the one the velocity predicts for a stationary point there (in
   // its own cycle's frame, where it was measured).
   const double inv = 1.0 / (options_.doppler_weight_sigma * options_.doppler_weight_sigma);
@@ -209,7 +211,8 @@ void AutomotiveOdometry::weightByDoppler(pcl::PointCloud<PointRadar>& cloud, con
   }
 }
 
-pcl::PointCloud<PointRadar> AutomotiveOdometry::weightedCycle(const ProcessedCycle& cycle, const Eigen::Vector3d& velocity) const {
+pcl::PointCloud<PointRadar> AutomotiveOdometry::weightedCycle(const ProcessedCycle& cycle,
+                                                              const Eigen::Vector3d& velocity) const {
   pcl::PointCloud<PointRadar> c = *cycle.cloud;
   weightByDoppler(c, cycle.mountings, velocity);
   return c;

@@ -17,6 +17,8 @@ void LocalMap::add(const pcl::PointCloud<PointRadar>& cycle) {
   while (clouds_.size() > capacity_) clouds_.pop_front();
 }
 
-pcl::PointCloud<PointRadar>::Ptr LocalMap::cloud() const { return concatenateCycles(clouds_); }
+pcl::PointCloud<PointRadar>::Ptr LocalMap::cloud() const {
+  return concatenateCycles(clouds_);
+}
 
 }  // namespace radar_ndt

@@ -62,8 +62,7 @@ MatcherAdapter makeMatcher(const MatcherOptions& options, double grid) {
       r->setEuclideanFitnessEpsilon(options.icp_fitness_epsilon);
       return MatcherAdapter(r);
     }
-    case Method::Doppler:
-      return MatcherAdapter();
+    case Method::Doppler: return MatcherAdapter();
   }
   return MatcherAdapter();
 }

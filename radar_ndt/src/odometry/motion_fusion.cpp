@@ -12,8 +12,8 @@ namespace radar_ndt {
 void MotionFusionOptions::validate() const {
   auto check = [](double v, const char* name, bool positive) {
     if (!std::isfinite(v) || v < 0 || (positive && v == 0))
-      throw std::invalid_argument(std::string("MotionFusionOptions: ") + name + (positive ? " must be > 0" : " must be >= 0") +
-                                  ", got " + std::to_string(v));
+      throw std::invalid_argument(std::string("MotionFusionOptions: ") + name +
+                                  (positive ? " must be > 0" : " must be >= 0") + ", got " + std::to_string(v));
   };
   check(doppler_sigma_x, "doppler_sigma_x", true);
   check(doppler_sigma_y, "doppler_sigma_y", true);

@@ -65,7 +65,8 @@ bool ScanningMotionGate::accept(const Pose2& motion, double dt, double mid_time)
   const double elapsed = std::max(dt, mid_time - trusted_mid_time_);
   const Pose2 predicted = integrateVelocity(trusted_velocity_, dt);
   const double bound_xy = options_.max_acceleration * elapsed * dt + 3.0 * std::sqrt(2.0) * options_.match_sigma_xy;
-  const double bound_yaw = options_.max_yaw_acceleration * elapsed * dt + 3.0 * std::sqrt(2.0) * options_.match_sigma_yaw;
+  const double bound_yaw =
+      options_.max_yaw_acceleration * elapsed * dt + 3.0 * std::sqrt(2.0) * options_.match_sigma_yaw;
   return (motion.head<2>() - predicted.head<2>()).norm() <= bound_xy &&
          std::abs(normalizeAngle(motion.z() - predicted.z())) <= bound_yaw;
 }

@@ -17,7 +17,8 @@ void ScanningOdometryOptions::validate() const {
   if (!(grid > 0) || !std::isfinite(grid)) fail("grid must be > 0, got " + std::to_string(grid));
   if (!(grid_step > 0) || !std::isfinite(grid_step)) fail("grid_step must be > 0");
   if (!(max_grid >= 0) || !std::isfinite(max_grid)) fail("max_grid must be >= 0 and finite");
-  if (!(power_shift >= 0.0f && power_shift < 1.0f)) fail("power_shift must be in [0, 1), got " + std::to_string(power_shift));
+  if (!(power_shift >= 0.0f && power_shift < 1.0f))
+    fail("power_shift must be in [0, 1), got " + std::to_string(power_shift));
   if (max_shift_halvings < 0) fail("max_shift_halvings must be >= 0");
   if (!(slow_speed >= 0)) fail("slow_speed must be >= 0");
   if (!(slow_grid > 0) || !std::isfinite(slow_grid)) fail("slow_grid must be > 0");
@@ -30,7 +31,11 @@ void ScanningOdometryOptions::validate() const {
 }
 
 ScanningOdometry::ScanningOdometry(const ScanningOdometryOptions& options, MatcherAdapter matcher)
-    : options_(options), matcher_(std::move(matcher)), gate_(options.gate), keyframes_(options.keyframes), fits_(options.fit),
+    : options_(options),
+      matcher_(std::move(matcher)),
+      gate_(options.gate),
+      keyframes_(options.keyframes),
+      fits_(options.fit),
       compensated_(new pcl::PointCloud<PointRadar>) {
   options_.validate();
 }
@@ -76,7 +81,8 @@ const OdometryStep& ScanningOdometry::addFirstScan(const ScanFrame& scan, Odomet
   return log_.add(step);
 }
 
-Pose2 ScanningOdometry::matchWithFailureHandling(const ScanFrame& scan, const OdometryStep& prev, double dt, OdometryStep& step) {
+Pose2 ScanningOdometry::matchWithFailureHandling(const ScanFrame& scan, const OdometryStep& prev, double dt,
+                                                 OdometryStep& step) {
   const ScanningOdometryOptions& o = options_;
   // Nominal settings for this step, then the new target: one model build (settings are lazy).
   step.slow = motion_model_.hasVelocity() && motion_model_.velocity().head<2>().norm() < o.slow_speed;
@@ -89,7 +95,8 @@ Pose2 ScanningOdometry::matchWithFailureHandling(const ScanFrame& scan, const Od
   a.dt = dt;
   a.mid_time = 1e-6 * static_cast<double>(prev.timestamp_us) + 0.5 * dt;
   Pose2 guess = step.doppler_motion;
-  if (!motion_model_.hasVelocity() && !o.start_hypotheses.empty()) step.doppler_motion = guess = bestStartHypothesis(scan, guess);
+  if (!motion_model_.hasVelocity() && !o.start_hypotheses.empty())
+    step.doppler_motion = guess = bestStartHypothesis(scan, guess);
 
   Pose2 motion;
   const bool ok = runRetryLadder(a, guess, g0, step, &motion);
@@ -251,7 +258,8 @@ bool ScanningOdometry::matchScan(const Attempt& a, const Pose2& guess, Pose2* es
     // Another round only when the velocity moved by more than the tolerance (yaw rate scaled by
     // 10 m, a typical point range: the displacement it causes there). Smaller changes are within
     // a single match's noise and chasing them adds nothing.
-    const bool settled = (v_new.head<2>() - v.head<2>()).norm() < c.tolerance && 10.0 * std::abs(v_new.z() - v.z()) < c.tolerance;
+    const bool settled =
+        (v_new.head<2>() - v.head<2>()).norm() < c.tolerance && 10.0 * std::abs(v_new.z() - v.z()) < c.tolerance;
     v = v_new;
     if (settled) break;
   }

@@ -12,7 +12,9 @@ namespace radar_ndt {
 using detail::Clock;
 using detail::median;
 namespace {
-double ms(Clock::time_point a, Clock::time_point b) { return detail::msBetween(a, b); }
+double ms(Clock::time_point a, Clock::time_point b) {
+  return detail::msBetween(a, b);
+}
 }  // namespace
 
 void AutomotiveRunOptions::validate() const {
@@ -44,14 +46,16 @@ AutomotiveRunOptions withMethod(AutomotiveRunOptions options, Method method) {
   return options;
 }
 
-AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene, const AutomotiveRunOptions& options,
+AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
+                                          const AutomotiveRunOptions& options,
                                           const std::function<void(std::size_t, std::size_t)>& progress) {
   options.validate();
   return runAutomotiveOdometry(dataset, scene, options, makeMatcher(options.matcher, options.odometry.grid), progress);
 }
 
-AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene, const AutomotiveRunOptions& options,
-                                          MatcherAdapter matcher, const std::function<void(std::size_t, std::size_t)>& progress) {
+AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
+                                          const AutomotiveRunOptions& options, MatcherAdapter matcher,
+                                          const std::function<void(std::size_t, std::size_t)>& progress) {
   options.validate();
   const NuScenesRadarSequence sequence(dataset, scene, options.sequence);
   const AutomotiveFrontEnd front_end(options.front_end);
@@ -86,7 +90,8 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
     } else {
       ++result.invalid_velocity_cycles;
     }
-    result.ego_speed.push_back(processed.ego.valid ? processed.ego.velocity.head<2>().norm() : std::numeric_limits<double>::quiet_NaN());
+    result.ego_speed.push_back(processed.ego.valid ? processed.ego.velocity.head<2>().norm()
+                                                   : std::numeric_limits<double>::quiet_NaN());
     const OdometryStep& step = odometry.add(processed);
     for (const auto& p : problems) result.problems.push_back("cycle " + std::to_string(k) + ": " + p);
     read.push_back(ms(t0, t1));

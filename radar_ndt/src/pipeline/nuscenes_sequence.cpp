@@ -25,7 +25,8 @@ void NuScenesSequenceOptions::validate() const {
   if (!(filter.max_range > 0)) throw std::invalid_argument("NuScenesSequenceOptions: filter.max_range must be > 0");
 }
 
-NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene, const NuScenesSequenceOptions& options)
+NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene,
+                                             const NuScenesSequenceOptions& options)
     : scene_name_(scene.name), options_(options), sweeps_(dataset.radarSweeps(scene)) {
   options_.validate();
   if (sweeps_.empty()) throw std::invalid_argument("scene " + scene.name + " has no radar sweeps");
@@ -44,7 +45,8 @@ NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, con
     for (auto& s : sweeps_)
       if (s.channel_index < wanted.size() && wanted[s.channel_index]) kept.push_back(std::move(s));
     sweeps_.swap(kept);
-    if (sweeps_.empty()) throw std::invalid_argument("scene " + scene.name + " has no sweeps of the chosen radar channels");
+    if (sweeps_.empty())
+      throw std::invalid_argument("scene " + scene.name + " has no sweeps of the chosen radar channels");
   }
   // The forward-facing radar: mounting yaw closest to 0 (ties: the one further forward).
   std::map<std::uint16_t, SensorMounting> mount;
@@ -55,8 +57,9 @@ NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, con
     for (const auto& [idx, m] : mount)
       if (channels[idx] == options.reference_channel) ref = idx;
     if (ref < 0)
-      throw std::invalid_argument("reference channel '" + options.reference_channel + "' has no sweeps in " + scene.name +
-                                  " (radar channels: " + joinNames(mount, [&](const auto& e) { return channels[e.first]; }) + ")");
+      throw std::invalid_argument(
+          "reference channel '" + options.reference_channel + "' has no sweeps in " + scene.name +
+          " (radar channels: " + joinNames(mount, [&](const auto& e) { return channels[e.first]; }) + ")");
   } else {
     double best = 1e9;
     for (const auto& [idx, m] : mount) {
@@ -85,14 +88,16 @@ NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, con
     for (std::size_t i = 0; i < gaps.size(); ++i)
       if (typical > 0 && gaps[i] > 3 * typical) {
         char line[256];
-        std::snprintf(line, sizeof line, "%s: silent for %.2f s (no sweep from %lld to %lld us; its sweeps are %.3f s apart)",
+        std::snprintf(line, sizeof line,
+                      "%s: silent for %.2f s (no sweep from %lld to %lld us; its sweeps are %.3f s apart)",
                       channels[channel].c_str(), 1e-6 * static_cast<double>(gaps[i]), static_cast<long long>(t[i]),
                       static_cast<long long>(t[i + 1]), 1e-6 * static_cast<double>(typical));
         silences_.push_back(line);
       }
   }
   if (plans_.size() >= 2)
-    period_s_ = 1e-6 * static_cast<double>(timestamp(plans_.size() - 1) - timestamp(0)) / static_cast<double>(plans_.size() - 1);
+    period_s_ = 1e-6 * static_cast<double>(timestamp(plans_.size() - 1) - timestamp(0)) /
+                static_cast<double>(plans_.size() - 1);
 }
 
 Trajectory NuScenesRadarSequence::groundTruthTrajectory() const {
@@ -106,7 +111,8 @@ Trajectory NuScenesRadarSequence::groundTruthTrajectory() const {
   return t;
 }
 
-RadarCycle NuScenesRadarSequence::load(std::size_t k, std::vector<std::string>* problems, std::size_t* non_finite_dropped) const {
+RadarCycle NuScenesRadarSequence::load(std::size_t k, std::vector<std::string>* problems,
+                                       std::size_t* non_finite_dropped) const {
   RadarCycle cycle;
   cycle.timestamp_us = timestamp(k);
   for (const std::size_t i : plans_[k].members) {
@@ -120,7 +126,8 @@ RadarCycle NuScenesRadarSequence::load(std::size_t k, std::vector<std::string>* 
       d.points = readNuScenesRadarPcd(s.path, options_.filter, s.channel_index, &stats);
       if (non_finite_dropped) *non_finite_dropped += stats.dropped_non_finite;
       if (problems && stats.dropped_non_finite > 0)
-        problems->push_back(s.path + ": dropped " + std::to_string(stats.dropped_non_finite) + " points with NaN or Inf values");
+        problems->push_back(s.path + ": dropped " + std::to_string(stats.dropped_non_finite) +
+                            " points with NaN or Inf values");
     } catch (const IoError& e) {
       if (problems) problems->push_back(e.what());
       continue;

@@ -23,7 +23,8 @@ struct PreparedScan {
 };
 
 /// Scan k of `sequence` through `front_end`, merged into voxels of `voxel` m when > 0.
-PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end, std::size_t k, double voxel);
+PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end, std::size_t k,
+                         double voxel);
 
 /// Prepares the scan after the one being matched. The front-end is used by one thread at a time
 /// (each preparation starts after the previous one was taken).

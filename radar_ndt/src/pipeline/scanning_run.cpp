@@ -18,7 +18,8 @@ using detail::Clock;
 using detail::median;
 using detail::msBetween;
 namespace detail {
-PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end, std::size_t k, double voxel) {
+PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end, std::size_t k,
+                         double voxel) {
   PreparedScan p;
   p.index = k;
   try {
@@ -31,8 +32,8 @@ PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold&
     std::size_t lit = 0;
     for (auto it = scan.power.begin(); it != scan.power.end() && lit < needed; ++it) lit += *it > 0;
     if (lit < needed)
-      throw std::runtime_error(sequence.path(k) + ": " + std::to_string(lit) + " of " + std::to_string(scan.power.size()) +
-                               " bins above 0: no noise floor, a dead sensor");
+      throw std::runtime_error(sequence.path(k) + ": " + std::to_string(lit) + " of " +
+                               std::to_string(scan.power.size()) + " bins above 0: no noise floor, a dead sensor");
     const auto t1 = Clock::now();
     p.cloud.reset(new pcl::PointCloud<PointRadar>);
     front_end.compute(scan, *p.cloud);
@@ -82,7 +83,8 @@ void ScanningRunOptions::validate() const {
 }
 
 ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const ScanningRunOptions& options,
-                                      const std::function<void(std::size_t, std::size_t)>& progress, const ScanCallback& on_scan) {
+                                      const std::function<void(std::size_t, std::size_t)>& progress,
+                                      const ScanCallback& on_scan) {
   options.validate();
   if (options.start >= sequence.size())
     throw std::invalid_argument("start scan " + std::to_string(options.start) + " is past the sequence's " +
@@ -126,7 +128,8 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
         add(c.rejected - before.rejected, "refused by the motion prior");
         add(c.not_converged - before.not_converged, "not converged");
         result.problems.push_back("scan " + std::to_string(k) + ": " + sequence.path(k) + ": no match passed (" +
-                                  (why.empty() ? std::string("no power weights") : why) + "): constant-velocity motion");
+                                  (why.empty() ? std::string("no power weights") : why) +
+                                  "): constant-velocity motion");
       }
       read.push_back(p.read_ms);
       fe.push_back(p.front_end_ms);

@@ -43,13 +43,16 @@ ScanFormat parseScanFormat(const std::string& name) {
   throw std::invalid_argument("unknown scanning format '" + name + "' (oxford, radiate)");
 }
 
-const char* toString(ScanFormat f) { return f == ScanFormat::Oxford ? "oxford" : "radiate"; }
+const char* toString(ScanFormat f) {
+  return f == ScanFormat::Oxford ? "oxford" : "radiate";
+}
 
 ScanningSequence::ScanningSequence(const std::string& dir, ScanFormat format, const ScanningSequenceOptions& options)
     : dir_(dir), name_(baseName(dir)), format_(format), options_(options) {
   if (format == ScanFormat::Oxford) {
     const std::string index = dir + "/radar.timestamps";
-    if (!exists(index)) throw IoError(index, "missing: an Oxford-layout sequence has radar.timestamps and radar/<stamp>.png");
+    if (!exists(index))
+      throw IoError(index, "missing: an Oxford-layout sequence has radar.timestamps and radar/<stamp>.png");
     std::vector<IoError> skipped;
     for (const OxfordStamp& s : readOxfordTimestamps(index, &skipped)) {
       stamps_.push_back(s.stamp);
@@ -78,7 +81,8 @@ ScanningSequence::ScanningSequence(const std::string& dir, ScanFormat format, co
     }
   } else {
     const std::string index = dir + "/Navtech_Polar.txt";
-    if (!exists(index)) throw IoError(index, "missing: a RADIATE sequence has Navtech_Polar.txt and Navtech_Polar/<frame>.png");
+    if (!exists(index))
+      throw IoError(index, "missing: a RADIATE sequence has Navtech_Polar.txt and Navtech_Polar/<frame>.png");
     std::vector<IoError> skipped;
     for (const RadiateFrame& f : readRadiateFrameTimes(index, &skipped)) {
       char name[32];

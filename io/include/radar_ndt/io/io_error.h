@@ -8,8 +8,7 @@ namespace radar_ndt {
 /// and what is wrong with it, e.g. "traj.txt:12: expected 12 numbers, found 11".
 class IoError : public std::runtime_error {
  public:
-  IoError(const std::string& file, const std::string& what)
-      : std::runtime_error(file + ": " + what), file_(file) {}
+  IoError(const std::string& file, const std::string& what) : std::runtime_error(file + ": " + what), file_(file) {}
   IoError(const std::string& file, std::size_t line, const std::string& what)
       : std::runtime_error(file + ":" + std::to_string(line) + ": " + what), file_(file), line_(line) {}
   const std::string& file() const noexcept { return file_; }

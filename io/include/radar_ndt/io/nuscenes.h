@@ -62,7 +62,7 @@ struct NuScenesSweep {
   std::string channel;
   std::uint16_t channel_index = 0;  ///< index into NuScenesDataset::radarChannels()
   std::int64_t timestamp_us = 0;
-  std::string path;                 ///< dataroot + filename
+  std::string path;  ///< dataroot + filename
   bool is_key_frame = false;
   Eigen::Isometry3d sensor_to_ego = Eigen::Isometry3d::Identity();  ///< calibrated_sensor
   Eigen::Isometry3d ego_to_global = Eigen::Isometry3d::Identity();  ///< ego_pose at this sweep

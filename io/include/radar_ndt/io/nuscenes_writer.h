@@ -48,8 +48,8 @@ class NuScenesTableWriter {
   void addSample(const std::string& token, std::int64_t timestamp, const std::string& prev, const std::string& next,
                  const std::string& scene_token);
   void addSensor(const std::string& token, const std::string& channel, const std::string& modality);
-  void addCalibratedSensor(const std::string& token, const std::string& sensor_token, const std::array<double, 3>& translation,
-                           const std::array<double, 4>& rotation);
+  void addCalibratedSensor(const std::string& token, const std::string& sensor_token,
+                           const std::array<double, 3>& translation, const std::array<double, 4>& rotation);
   void addEgoPose(const std::string& token, std::int64_t timestamp, const std::array<double, 4>& rotation,
                   const std::array<double, 3>& translation);
   /// A radar sweep; `filename` is relative to the dataroot (samples/… or sweeps/…).

@@ -31,11 +31,13 @@ struct PolarScan {
   std::vector<std::uint8_t> measured;
   /// Per azimuth: the raw encoder count (Oxford, out of `encoder_size`); empty for RADIATE.
   std::vector<std::uint16_t> encoder;
-  double range_resolution = 0.0;  ///< metres per bin
-  double range_offset_bins = 0.0; ///< range of bin b is (b + range_offset_bins) · range_resolution
-  std::int64_t stamp = 0;         ///< the scan's reference timestamp (µs): Oxford: the file name
+  double range_resolution = 0.0;   ///< metres per bin
+  double range_offset_bins = 0.0;  ///< range of bin b is (b + range_offset_bins) · range_resolution
+  std::int64_t stamp = 0;          ///< the scan's reference timestamp (µs): Oxford: the file name
 
-  float powerAt(int a, int b) const { return static_cast<float>(power[static_cast<std::size_t>(a) * bins + b]) / 255.0f; }
+  float powerAt(int a, int b) const {
+    return static_cast<float>(power[static_cast<std::size_t>(a) * bins + b]) / 255.0f;
+  }
   const std::uint8_t* row(int a) const { return power.data() + static_cast<std::size_t>(a) * bins; }
   std::uint8_t* row(int a) { return power.data() + static_cast<std::size_t>(a) * bins; }
   double rangeOf(double bin) const { return (bin + range_offset_bins) * range_resolution; }

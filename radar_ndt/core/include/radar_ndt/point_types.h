@@ -28,8 +28,7 @@ struct EIGEN_ALIGN16 PointRadar {
   std::uint16_t sensor_id;
 
   inline PointRadar()
-      : power(1.f), rcs(0.f), cov_xx(0.f), cov_xy(0.f), cov_yy(0.f), doppler(0.f),
-        time_offset(0.f), sensor_id(0) {
+      : power(1.f), rcs(0.f), cov_xx(0.f), cov_xy(0.f), cov_yy(0.f), doppler(0.f), time_offset(0.f), sensor_id(0) {
     x = y = z = 0.f;
     data[3] = 1.f;
   }

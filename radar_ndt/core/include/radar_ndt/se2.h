@@ -71,7 +71,9 @@ inline Pose2 inverse(const Pose2& a) {
 }
 
 /// a⁻¹ ⊕ b: the pose b seen from a (the relative motion from a to b).
-inline Pose2 between(const Pose2& a, const Pose2& b) { return compose(inverse(a), b); }
+inline Pose2 between(const Pose2& a, const Pose2& b) {
+  return compose(inverse(a), b);
+}
 
 /// Planar 3D isometry (z = 0, rotation about z) from an SE(2) pose.
 inline Eigen::Isometry3d toIsometry3(const Pose2& p) {
@@ -82,7 +84,9 @@ inline Eigen::Isometry3d toIsometry3(const Pose2& p) {
 }
 
 /// The SE(2) part of a 3D isometry (x, y, yaw of the rotated x axis).
-inline Pose2 toPose2(const Eigen::Isometry3d& T) { return toPose2(T.matrix()); }
+inline Pose2 toPose2(const Eigen::Isometry3d& T) {
+  return toPose2(T.matrix());
+}
 
 /// The motion over `dt` seconds at constant body velocity v = (vx, vy, ω) (vehicle frame): the pose
 /// of the vehicle at t + dt in its frame at t, exp(v·dt) on SE(2) (exact along the arc).
@@ -114,7 +118,8 @@ inline Eigen::Vector3d velocityOf(const Pose2& motion, double dt) {
   detail::expCoefficients(th, a, b);
   // [a −b; b a]⁻¹ = [a b; −b a] / (a² + b²)
   const double d = a * a + b * b;
-  return Eigen::Vector3d((a * motion.x() + b * motion.y()) / (d * dt), (-b * motion.x() + a * motion.y()) / (d * dt), th / dt);
+  return Eigen::Vector3d((a * motion.x() + b * motion.y()) / (d * dt), (-b * motion.x() + a * motion.y()) / (d * dt),
+                         th / dt);
 }
 
 }  // namespace radar_ndt

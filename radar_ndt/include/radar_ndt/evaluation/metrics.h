@@ -71,7 +71,7 @@ struct FrameError {
 FrameError frameError(const PosePairs& pairs, std::size_t step = 1);
 
 struct AbsoluteError {
-  double rmse_m = 0;       ///< RMSE of x-y positions after alignment
+  double rmse_m = 0;  ///< RMSE of x-y positions after alignment
   std::size_t poses = 0;
   Pose2 alignment = Pose2::Zero();  ///< the SE(2) transform applied to the estimate
 };

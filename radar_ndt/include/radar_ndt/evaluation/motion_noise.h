@@ -35,7 +35,7 @@ std::vector<MotionNoiseSample> motionNoiseSamples(const AutomotiveRunResult& run
 
 struct MotionNoiseCalibration {
   double doppler_sigma_x = 0, doppler_sigma_y = 0, doppler_sigma_yaw = 0;  ///< m/s, m/s, rad/s
-  double match_covariance_scale = 0;  ///< 0 when no sample had a reported covariance
+  double match_covariance_scale = 0;                                 ///< 0 when no sample had a reported covariance
   double match_sigma_x = 0, match_sigma_y = 0, match_sigma_yaw = 0;  ///< m, m, rad
   std::size_t doppler_samples = 0, match_samples = 0, reported_covariances = 0;
   /// `options` with the calibrated values set (those without samples unchanged).
@@ -60,9 +60,9 @@ MotionNees motionNees(const std::vector<MotionNoiseSample>& samples, const Motio
 /// oracle, so an upper bound on what a fusion of these two motions can gain on this axis).
 struct MatchInformationAxis {
   double doppler_rms = 0, match_rms = 0;
-  double correlation = 0;       ///< of the Doppler and match errors
-  double oracle_weight = 0;     ///< w* = −Σ e_d (e_m − e_d) / Σ (e_m − e_d)²
-  double oracle_rms = 0;        ///< the RMS error of d + w*·(m − d)
+  double correlation = 0;    ///< of the Doppler and match errors
+  double oracle_weight = 0;  ///< w* = −Σ e_d (e_m − e_d) / Σ (e_m − e_d)²
+  double oracle_rms = 0;     ///< the RMS error of d + w*·(m − d)
 };
 struct MatchInformation {
   MatchInformationAxis axis[3];  ///< x (along track), y, yaw

@@ -14,8 +14,12 @@ namespace radar_ndt {
 
 /// The metrics each pipeline reports when none are asked for: the paper's 1 m metric for the
 /// automotive pipeline, KITTI and frame-to-frame errors for the scanning one.
-inline std::vector<Metric> defaultMetrics(const AutomotiveRunResult&) { return {Metric::OneMeter}; }
-inline std::vector<Metric> defaultMetrics(const ScanningRunResult&) { return {Metric::Kitti, Metric::Frame}; }
+inline std::vector<Metric> defaultMetrics(const AutomotiveRunResult&) {
+  return {Metric::OneMeter};
+}
+inline std::vector<Metric> defaultMetrics(const ScanningRunResult&) {
+  return {Metric::Kitti, Metric::Frame};
+}
 
 /// One CSV line per cycle after a header: timestamp_us, status, attempts, grid, chi2, the matched
 /// motion, the Doppler motion, point counts, velocity_valid and the ground-truth motion.

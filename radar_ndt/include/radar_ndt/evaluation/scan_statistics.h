@@ -22,7 +22,7 @@ struct RangeBand {
 struct ScanStatisticsOptions {
   /// The scanning issue's bands: 2–15, 15–30, 30–45 and 45–62.5 m.
   std::vector<RangeBand> bands{{2.0, 15.0}, {15.0, 30.0}, {30.0, 45.0}, {45.0, 62.5}};
-  std::vector<double> levels{0.2, 0.333, 0.5};       ///< fraction of bins with power above each
+  std::vector<double> levels{0.2, 0.333, 0.5};        ///< fraction of bins with power above each
   std::vector<double> percentiles{50.0, 90.0, 99.0};  ///< of the power, nearest rank
   /// Throws std::invalid_argument naming the setting (empty or inverted band, level outside
   /// [0, 1], percentile outside (0, 100]).
@@ -31,9 +31,9 @@ struct ScanStatisticsOptions {
 
 struct BandStatistics {
   RangeBand band;
-  std::size_t bins = 0;              ///< polar bins in the band (all azimuths)
-  std::vector<double> above;         ///< per level: share of bins with power > level
-  std::vector<double> percentile;    ///< per percentile: power (0..1, a multiple of 1/255)
+  std::size_t bins = 0;            ///< polar bins in the band (all azimuths)
+  std::vector<double> above;       ///< per level: share of bins with power > level
+  std::vector<double> percentile;  ///< per percentile: power (0..1, a multiple of 1/255)
 };
 
 struct ScanStatistics {
@@ -44,7 +44,8 @@ struct ScanStatistics {
 /// Per band statistics of one scan's raw bins.
 ScanStatistics scanStatistics(const PolarScan& scan, const ScanStatisticsOptions& options = {});
 /// The same, with `points` the thresholded points `front_end` makes of the scan.
-ScanStatistics scanStatistics(const PolarScan& scan, const PowerThreshold& front_end, const ScanStatisticsOptions& options = {});
+ScanStatistics scanStatistics(const PolarScan& scan, const PowerThreshold& front_end,
+                              const ScanStatisticsOptions& options = {});
 
 /// Field-wise summary over scans: the median, and the smallest and largest value of each field.
 struct StatisticsSummary {
@@ -74,7 +75,7 @@ struct RealismCheck {
   double error = 0;
   bool passed() const { return failures.empty(); }
 };
-RealismCheck compareRealism(const ScanStatistics& simulated, const ScanStatistics& real, const ScanStatisticsOptions& options,
-                            const RealismTolerance& tolerance = {});
+RealismCheck compareRealism(const ScanStatistics& simulated, const ScanStatistics& real,
+                            const ScanStatisticsOptions& options, const RealismTolerance& tolerance = {});
 
 }  // namespace radar_ndt

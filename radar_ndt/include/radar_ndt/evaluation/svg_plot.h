@@ -1,8 +1,8 @@
 #pragma once
 #include <string>
 
-#include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/evaluation/metrics.h"
+#include "radar_ndt/evaluation/report.h"
 
 namespace radar_ndt {
 

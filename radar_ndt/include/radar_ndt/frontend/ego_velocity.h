@@ -81,7 +81,6 @@ struct EgoVelocityOptions {
 
 class EgoVelocityEstimator {
  public:
-
   EgoVelocityEstimator() = default;
   /// Validates `o` (std::invalid_argument).
   explicit EgoVelocityEstimator(const EgoVelocityOptions& o) : options_(o) { options_.validate(); }

@@ -21,14 +21,14 @@
 namespace radar_ndt {
 
 struct PowerThresholdOptions {
-  bool cartesian = true;              ///< false: the direct polar path
-  double cartesian_resolution = 0.125;///< m per pixel (paper)
-  double max_range = 62.5;            ///< m (paper: farther returns blur in the Cartesian image)
+  bool cartesian = true;                ///< false: the direct polar path
+  double cartesian_resolution = 0.125;  ///< m per pixel (paper)
+  double max_range = 62.5;              ///< m (paper: farther returns blur in the Cartesian image)
   /// m; returns nearer than this are dropped: the radar's own mount and the vehicle roof light
   /// up the first bins of every azimuth and would pin the match to zero motion.
   double min_range = 2.0;
-  float threshold = 0.333f;           ///< power in 0..1 (paper)
-  double beam_width_deg = 2.0;        ///< −3 dB azimuth beam width (CTS350-X: 2°); σθ = width / 2.355
+  float threshold = 0.333f;     ///< power in 0..1 (paper)
+  double beam_width_deg = 2.0;  ///< −3 dB azimuth beam width (CTS350-X: 2°); σθ = width / 2.355
   /// Throws std::invalid_argument naming the setting out of range.
   void validate() const;
 };
@@ -68,10 +68,10 @@ class PowerThreshold {
 
 /// Statistics of a Cartesian image, for comparing simulated scans with real ones.
 struct PowerStatistics {
-  std::size_t pixels = 0;              ///< pixels within the ring
-  double fraction_above = 0.0;         ///< share of them above the threshold
+  std::size_t pixels = 0;                  ///< pixels within the ring
+  double fraction_above = 0.0;             ///< share of them above the threshold
   double p50 = 0.0, p90 = 0.0, p99 = 0.0;  ///< power percentiles (0..1)
-  std::size_t points = 0;              ///< thresholded points (the front-end's output size)
+  std::size_t points = 0;                  ///< thresholded points (the front-end's output size)
   /// Percentiles of p − threshold over the pixels above the threshold: the power-shift weights
   /// w = p − s of the paper's eq. (1) at s = threshold, what the matcher's weighting acts on.
   double excess_p50 = 0.0, excess_p90 = 0.0, excess_p99 = 0.0;

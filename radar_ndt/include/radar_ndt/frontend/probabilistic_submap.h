@@ -27,8 +27,8 @@ class ProbabilisticSubmap {
   /// previous and this velocity (trapezoid rule; its covariance the mean of the two, halved); each
   /// point's covariance becomes R Σ Rᵀ + G Σ_m Gᵀ, with Σ_m = J Σ_v̄ Jᵀ dt² the motion's
   /// covariance and G = ∂p'/∂(motion).
-  void add(const pcl::PointCloud<PointRadar>& cycle, const Eigen::Vector3d& ego_velocity, const Eigen::Matrix3d& covariance,
-           double dt);
+  void add(const pcl::PointCloud<PointRadar>& cycle, const Eigen::Vector3d& ego_velocity,
+           const Eigen::Matrix3d& covariance, double dt);
 
   /// All kept cycles in the newest cycle's frame, oldest first.
   pcl::PointCloud<PointRadar>::Ptr cloud() const;
@@ -53,7 +53,8 @@ class ProbabilisticSubmap {
 
 /// Moves `cloud` (points in frame A) into frame B, where `motion` is B's pose in A and
 /// `motion_cov` its covariance, growing each point's covariance as ProbabilisticSubmap does.
-void transformWithUncertainty(pcl::PointCloud<PointRadar>& cloud, const Pose2& motion, const Eigen::Matrix3d& motion_cov);
+void transformWithUncertainty(pcl::PointCloud<PointRadar>& cloud, const Pose2& motion,
+                              const Eigen::Matrix3d& motion_cov);
 
 /// The clouds of `cycles` in one cloud, in order (width = size, height 1).
 pcl::PointCloud<PointRadar>::Ptr concatenateCycles(const std::deque<pcl::PointCloud<PointRadar>>& cycles);

@@ -77,7 +77,6 @@ struct AutomotiveFrontEndOptions {
 
 class AutomotiveFrontEnd {
  public:
-
   AutomotiveFrontEnd() = default;
   /// Validates `o` (std::invalid_argument).
   explicit AutomotiveFrontEnd(const AutomotiveFrontEndOptions& o) : options_(o) { options_.validate(); }

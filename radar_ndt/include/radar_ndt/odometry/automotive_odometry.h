@@ -50,14 +50,14 @@ struct AutomotiveOdometryOptions {
   /// as in the paper.
   bool fuse_doppler = true;
   MotionFusionOptions fusion;
-  double grid = 3.0;             ///< g (m), the paper's nuScenes value
-  double grid_step = 2.0;        ///< added to g at each retry
+  double grid = 3.0;       ///< g (m), the paper's nuScenes value
+  double grid_step = 2.0;  ///< added to g at each retry
   int max_retries = 4;
   AutomotiveMotionGateOptions gate;
   /// Added to the ego-velocity covariance of a cycle whose velocity could not be estimated (the
   /// previous one is reused): 1σ in m/s and rad/s.
   double stale_velocity_sigma = 0.5;
-  std::size_t min_points = 10;   ///< fewer points in either submap: no match, dead reckoning
+  std::size_t min_points = 10;  ///< fewer points in either submap: no match, dead reckoning
   /// Rapp et al.: weight each point by exp(−½(Δv_r/σ)²), Δv_r its Doppler minus the one its own
   /// cycle's motion predicts, in that cycle's frame: the newest cycle's against the current
   /// estimate, re-weighted `doppler_weight_rounds` times; older cycles keep the weights their own
@@ -98,15 +98,16 @@ class AutomotiveOdometry {
   /// Match `source` to the last submap from `guess`, retrying with larger grids; the accepted
   /// motion, or the guess after a fallback (step's status, attempts, grid and χ² set).
   /// Source points from `newest_begin` on are the newest cycle's (the ones Rapp's rounds reweight).
-  Pose2 matchWithRetries(const ProcessedCycle& cycle, const pcl::PointCloud<PointRadar>::Ptr& source, std::size_t newest_begin,
-                         const pcl::PointCloud<PointRadar>::Ptr& target, const Pose2& guess, const Eigen::Matrix3d& guess_cov,
-                         double dt, OdometryStep& step);
+  Pose2 matchWithRetries(const ProcessedCycle& cycle, const pcl::PointCloud<PointRadar>::Ptr& source,
+                         std::size_t newest_begin, const pcl::PointCloud<PointRadar>::Ptr& target, const Pose2& guess,
+                         const Eigen::Matrix3d& guess_cov, double dt, OdometryStep& step);
   /// Rapp's weights of cloud[first..] against the velocity `v` = (vx, vy, ω) of their cycle.
-  void weightByDoppler(pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings, const Eigen::Vector3d& v,
-                       std::size_t first = 0) const;
+  void weightByDoppler(pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings,
+                       const Eigen::Vector3d& v, std::size_t first = 0) const;
   /// After a cycle: what the next match needs of it (the paper's target submap, or the cycle in
   /// the local map, already moved into this cycle's frame), with Rapp's weights from `velocity`.
-  void keepForNextMatch(const ProcessedCycle& cycle, const Eigen::Vector3d& velocity, const pcl::PointCloud<PointRadar>::Ptr& submap);
+  void keepForNextMatch(const ProcessedCycle& cycle, const Eigen::Vector3d& velocity,
+                        const pcl::PointCloud<PointRadar>::Ptr& submap);
   /// The newest cycle's points weighted against `velocity` (Rapp): what the submap or map keeps.
   pcl::PointCloud<PointRadar> weightedCycle(const ProcessedCycle& cycle, const Eigen::Vector3d& velocity) const;
 

@@ -39,9 +39,10 @@ namespace detail {
 template <typename R, typename = void>
 struct HasPowerShift : std::false_type {};
 template <typename R>
-struct HasPowerShift<R, std::void_t<decltype(std::declval<R&>().setPowerShift(0.f)), decltype(std::declval<R&>().setShiftSourceWeights(true)),
-                                    decltype(std::declval<R&>().getNdtScore()), decltype(std::declval<R&>().getNumSourcePoints())>>
-    : std::true_type {};
+struct HasPowerShift<
+    R, std::void_t<decltype(std::declval<R&>().setPowerShift(0.f)),
+                   decltype(std::declval<R&>().setShiftSourceWeights(true)), decltype(std::declval<R&>().getNdtScore()),
+                   decltype(std::declval<R&>().getNumSourcePoints())>> : std::true_type {};
 template <typename R, typename = void>
 struct HasResolution : std::false_type {};
 template <typename R>
@@ -49,15 +50,18 @@ struct HasResolution<R, std::void_t<decltype(std::declval<R&>().setResolution(1.
 template <typename R, typename = void>
 struct HasPoseCovariance : std::false_type {};
 template <typename R>
-struct HasPoseCovariance<R, std::void_t<decltype(Eigen::Matrix3d(std::declval<R&>().getPoseCovariance()))>> : std::true_type {};
+struct HasPoseCovariance<R, std::void_t<decltype(Eigen::Matrix3d(std::declval<R&>().getPoseCovariance()))>>
+    : std::true_type {};
 template <typename R, typename = void>
 struct HasTransformationLikelihood : std::false_type {};
 template <typename R>
-struct HasTransformationLikelihood<R, std::void_t<decltype(std::declval<R&>().getTransformationLikelihood())>> : std::true_type {};
+struct HasTransformationLikelihood<R, std::void_t<decltype(std::declval<R&>().getTransformationLikelihood())>>
+    : std::true_type {};
 template <typename R, typename = void>
 struct HasTransformationProbability : std::false_type {};
 template <typename R>
-struct HasTransformationProbability<R, std::void_t<decltype(std::declval<R&>().getTransformationProbability())>> : std::true_type {};
+struct HasTransformationProbability<R, std::void_t<decltype(std::declval<R&>().getTransformationProbability())>>
+    : std::true_type {};
 }  // namespace detail
 
 /// A registration and what the odometry may change or read on it, decided once, from the static
@@ -95,7 +99,8 @@ class MatcherAdapter {
     } else if constexpr (detail::HasTransformationProbability<R>::value) {
       score_ = [r] { return r->getTransformationProbability(); };
     }
-    if constexpr (detail::HasPoseCovariance<R>::value) pose_covariance_ = [r] { return Eigen::Matrix3d(r->getPoseCovariance()); };
+    if constexpr (detail::HasPoseCovariance<R>::value)
+      pose_covariance_ = [r] { return Eigen::Matrix3d(r->getPoseCovariance()); };
   }
 
   explicit operator bool() const { return static_cast<bool>(registration_); }

@@ -20,7 +20,9 @@ class ConstantVelocityModel {
   bool hasVelocity() const { return last_dt_ > 0; }
   /// The constant body velocity (vx, vy, ω) of the last motion, log(motion) / dt on SE(2); zero
   /// before there is one.
-  Eigen::Vector3d velocity() const { return last_dt_ > 0 ? velocityOf(last_motion_, last_dt_) : Eigen::Vector3d::Zero(); }
+  Eigen::Vector3d velocity() const {
+    return last_dt_ > 0 ? velocityOf(last_motion_, last_dt_) : Eigen::Vector3d::Zero();
+  }
   /// The motion over `dt` at that velocity, exp(v·dt) (the scanning guess, and bridged steps).
   Pose2 predict(double dt) const { return integrateVelocity(velocity(), dt); }
   /// The last displacement rescaled linearly to `dt` (the automotive motion gate's expectation);

@@ -27,8 +27,8 @@ const char* toString(StepStatus s);
 
 struct OdometryStep {
   std::int64_t timestamp_us = 0;
-  Pose2 pose = Pose2::Zero();    ///< vehicle at this cycle in the first cycle's frame
-  Pose2 motion = Pose2::Zero();  ///< this cycle in the previous one
+  Pose2 pose = Pose2::Zero();            ///< vehicle at this cycle in the first cycle's frame
+  Pose2 motion = Pose2::Zero();          ///< this cycle in the previous one
   Pose2 doppler_motion = Pose2::Zero();  ///< the initial guess: ego-velocity integral (scanning: constant velocity)
   StepStatus status = StepStatus::First;
   int attempts = 0;
@@ -36,7 +36,7 @@ struct OdometryStep {
   double match_ms = 0;
   std::size_t source_points = 0, target_points = 0;
   // Automotive only:
-  double chi2 = 0;             ///< of the accepted (or last) match against the Doppler motion
+  double chi2 = 0;  ///< of the accepted (or last) match against the Doppler motion
   double submap_ms = 0;
   bool velocity_valid = true;  ///< the cycle had its own ego-velocity (not the last one reused)
   /// The accepted match before it was fused with the Doppler motion (zero without one).
@@ -47,10 +47,10 @@ struct OdometryStep {
   Eigen::Matrix3d match_covariance = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   double yaw_rate_bias = 0;  ///< the fusion's Doppler yaw-rate bias estimate after this cycle (rad/s)
   // Scanning only:
-  float power_shift = 0;         ///< s of the accepted (or last) attempt
-  int compensation_rounds = 0;   ///< matches run with motion-compensated points, all attempts
-  bool slow = false;             ///< the slow-speed grid was used
-  bool keyframe = false;         ///< this scan became the target of the next matches
+  float power_shift = 0;        ///< s of the accepted (or last) attempt
+  int compensation_rounds = 0;  ///< matches run with motion-compensated points, all attempts
+  bool slow = false;            ///< the slow-speed grid was used
+  bool keyframe = false;        ///< this scan became the target of the next matches
 };
 
 struct OdometryCounters {

@@ -28,10 +28,10 @@ namespace radar_ndt {
 
 /// The scanning pipeline's settings, the paper's Oxford values by default.
 struct ScanningOdometryOptions {
-  double grid = 3.75;             ///< g (m)
-  double grid_step = 2.5;         ///< added to g after each failed attempt
-  double max_grid = 12.5;         ///< once an attempt above this grid fails, s is halved
-  float power_shift = 0.333f;     ///< s of eq. (1)-(2) (ours only; PCL's matchers ignore power)
+  double grid = 3.75;          ///< g (m)
+  double grid_step = 2.5;      ///< added to g after each failed attempt
+  double max_grid = 12.5;      ///< once an attempt above this grid fails, s is halved
+  float power_shift = 0.333f;  ///< s of eq. (1)-(2) (ours only; PCL's matchers ignore power)
   /// false: s shifts the cells' weights (eq. 1) only, the matching weights are p·exp(−½(σx + σy))
   /// (an ablation; the paper shifts both).
   bool shift_source_weights = true;
@@ -40,7 +40,7 @@ struct ScanningOdometryOptions {
   double slow_grid = 1.5;         ///< m
   ScanningMotionGateOptions gate;
   MotionCompensationOptions compensation;
-  std::size_t min_points = 30;    ///< fewer points in either scan: constant velocity
+  std::size_t min_points = 30;  ///< fewer points in either scan: constant velocity
   /// The second scan has no velocity to extrapolate: it is matched from each of these forward
   /// displacements (m) and the best-scoring result is its guess. Empty: from zero motion.
   std::vector<double> start_hypotheses{0.0, 1.5, 3.0, 4.5, 6.0, -1.5};
@@ -125,9 +125,9 @@ class ScanningOdometry {
   pcl::PointCloud<PointRadar>::ConstPtr previous_raw_;  ///< a copy of the keyframe as given, to re-compensate
   pcl::PointCloud<PointRadar>::Ptr compensated_;        ///< scratch: the source of the last attempt
   pcl::PointCloud<PointRadar> aligned_;  ///< scratch: the matcher's output (unused; kept to reuse its memory)
-  bool target_replaced_ = false;       ///< the matcher holds a re-compensated copy of target_
-  bool matcher_holds_target_ = false;  ///< the matcher's target (and model) is target_ as it is
-  bool target_compensated_ = false;    ///< target_ was moved to its reference time (not the first scan)
+  bool target_replaced_ = false;         ///< the matcher holds a re-compensated copy of target_
+  bool matcher_holds_target_ = false;    ///< the matcher's target (and model) is target_ as it is
+  bool target_compensated_ = false;      ///< target_ was moved to its reference time (not the first scan)
 };
 
 }  // namespace radar_ndt

@@ -40,14 +40,15 @@ struct AutomotiveRunResult {
   StageTimes median_ms;  ///< per cycle, median of each stage
   StageTimes mean_ms;
   double median_total_ms = 0;  ///< median of the per-cycle totals
-  std::vector<std::string> problems;  ///< radars that fell silent (first), then files that could not be read, and why (with the cycle)
+  std::vector<std::string>
+      problems;  ///< radars that fell silent (first), then files that could not be read, and why (with the cycle)
   std::size_t invalid_velocity_cycles = 0;
   /// Cycles whose ego-velocity used vy = 0 (radars at one place only: EgoVelocityModel::Auto).
   std::size_t nonholonomic_velocity_cycles = 0;
-  std::size_t detections = 0;      ///< after the reader's filters, all cycles
-  std::size_t removed_moving = 0;  ///< by the Doppler outlier filter
+  std::size_t detections = 0;          ///< after the reader's filters, all cycles
+  std::size_t removed_moving = 0;      ///< by the Doppler outlier filter
   double median_doppler_residual = 0;  ///< median over cycles of the ego-velocity fit's inlier RMS (m/s)
-  std::vector<double> ego_speed;  ///< Doppler ego speed per cycle (m/s), NaN when invalid
+  std::vector<double> ego_speed;       ///< Doppler ego speed per cycle (m/s), NaN when invalid
 };
 
 /// `progress(done, total)` is called after each cycle when given.

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/frontend/radar_cycle.h"
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/trajectory_io.h"
-#include "radar_ndt/frontend/radar_cycle.h"
 
 namespace radar_ndt {
 
@@ -26,8 +26,8 @@ struct NuScenesSequenceOptions {
 
 class NuScenesRadarSequence {
  public:
-
-  NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene, const NuScenesSequenceOptions& options = {});
+  NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene,
+                        const NuScenesSequenceOptions& options = {});
 
   const std::string& sceneName() const { return scene_name_; }
   const std::string& referenceChannel() const { return reference_channel_; }
@@ -49,7 +49,8 @@ class NuScenesRadarSequence {
 
   /// Reads cycle k's sweeps. A sweep that cannot be read (missing, truncated, malformed file) is
   /// left out and described in `problems` (file and reason); the cycle goes on with the others.
-  RadarCycle load(std::size_t k, std::vector<std::string>* problems = nullptr, std::size_t* non_finite_dropped = nullptr) const;
+  RadarCycle load(std::size_t k, std::vector<std::string>* problems = nullptr,
+                  std::size_t* non_finite_dropped = nullptr) const;
 
  private:
   std::string scene_name_;

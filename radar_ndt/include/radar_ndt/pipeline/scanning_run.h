@@ -53,7 +53,7 @@ struct ScanningRunResult {
   Trajectory ground_truth;  ///< the sequence's, re-based so the first scan used is identity; may be empty
   std::vector<OdometryStep> steps;
   OdometryCounters counters;
-  StageTimes median_ms;  ///< per scan: read = PNG decode, front_end = threshold, match (submap: 0)
+  StageTimes median_ms;         ///< per scan: read = PNG decode, front_end = threshold, match (submap: 0)
   double median_total_ms = 0;   ///< median of per-scan decode + threshold + match (one core)
   double wall_s = 0;            ///< the whole run, wall clock
   double scans_per_second = 0;  ///< end to end, with the prefetch thread

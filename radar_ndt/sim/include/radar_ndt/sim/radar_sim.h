@@ -50,7 +50,7 @@ class SimTrajectory {
   std::size_t segment(double t) const;
   std::vector<double> stamps_;
   std::vector<Pose2> poses_;
-  std::vector<double> arc_;  ///< cumulative path length at each pose
+  std::vector<double> arc_;                         ///< cumulative path length at each pose
   double start_heading_ = 0.0, end_heading_ = 0.0;  ///< direction of travel at the ends (for atArc beyond them)
 };
 
@@ -64,11 +64,11 @@ const char* toString(Material m);
 /// What each material returns and lets through. Power in dB relative to a building facade hit
 /// at normal incidence at 10 m.
 struct MaterialModel {
-  double reflect_db;      ///< power at 10 m, normal incidence
-  double transmission;    ///< share of the power that goes on behind it (0: opaque)
-  double depth;           ///< m of range over which it returns (volume scattering)
-  double incidence_exp;   ///< power ∝ |cos incidence|^exp (0: cylinders, rough surfaces)
-  double rcs_dbsm;        ///< ARS408 radar cross-section of one detection
+  double reflect_db;     ///< power at 10 m, normal incidence
+  double transmission;   ///< share of the power that goes on behind it (0: opaque)
+  double depth;          ///< m of range over which it returns (volume scattering)
+  double incidence_exp;  ///< power ∝ |cos incidence|^exp (0: cylinders, rough surfaces)
+  double rcs_dbsm;       ///< ARS408 radar cross-section of one detection
 };
 const MaterialModel& materialModel(Material m);
 
@@ -76,17 +76,17 @@ struct WorldOptions {
   std::uint64_t seed = 1;
   // Defaults: the automotive simulator's and the radiate profile's world; the oxford profile
   // (applyProfile) sets a denser city.
-  double road_half_width_min = 4.0;   ///< m, kerb to the path's centre line
+  double road_half_width_min = 4.0;  ///< m, kerb to the path's centre line
   double road_half_width_max = 8.0;
-  double building_probability = 0.6; ///< per side and 30 m block: a facade (else open land)
-  double facade_gap_probability = 0.2;  ///< per 3–9 m facade piece: a gap (alleys, drives)
-  double open_land_objects = 6.0;     ///< per side and open block: mean scattered buildings, bushes, cars
+  double building_probability = 0.6;     ///< per side and 30 m block: a facade (else open land)
+  double facade_gap_probability = 0.2;   ///< per 3–9 m facade piece: a gap (alleys, drives)
+  double open_land_objects = 6.0;        ///< per side and open block: mean scattered buildings, bushes, cars
   double parked_car_probability = 0.35;  ///< per 6 m slot along the kerb
-  double pole_spacing = 25.0;         ///< m, mean
-  double tree_probability = 0.4;      ///< per 12 m slot
-  double fence_probability = 0.25;    ///< per block, where there is no facade
-  double hedge_probability = 0.3;     ///< per block, where there is no facade
-  double movers_per_km = 12.0;        ///< moving cars and buses per km of path
+  double pole_spacing = 25.0;            ///< m, mean
+  double tree_probability = 0.4;         ///< per 12 m slot
+  double fence_probability = 0.25;       ///< per block, where there is no facade
+  double hedge_probability = 0.3;        ///< per block, where there is no facade
+  double movers_per_km = 12.0;           ///< moving cars and buses per km of path
   double bus_share = 0.25;
   /// 1: the mirror image of the seed's world across the path (every lateral offset and relative
   /// orientation negated, the same random draws; parked cars on the right kerb, oncoming traffic
@@ -112,20 +112,20 @@ struct Circle {
 };
 /// A vehicle moving along the ego path at its own constant speed, in its own lane.
 struct Mover {
-  double s0;        ///< arc length at t = 0 (or, following the ego, the gap ahead of it)
-  double speed;     ///< m/s along the path (negative: oncoming)
-  bool follows_ego; ///< drives the ego's own path `s0` metres ahead of it, at its speed
-  double lateral;   ///< m left of the path's centre line
+  double s0;         ///< arc length at t = 0 (or, following the ego, the gap ahead of it)
+  double speed;      ///< m/s along the path (negative: oncoming)
+  bool follows_ego;  ///< drives the ego's own path `s0` metres ahead of it, at its speed
+  double lateral;    ///< m left of the path's centre line
   double length, width;
   double t_start, t_end;  ///< alive between these times (s)
   Material material;
 };
 
 struct Hit {
-  double range;       ///< m from the ray origin
+  double range;  ///< m from the ray origin
   double cos_incidence;
   Material material;
-  double depth;       ///< m of range the return spreads over
+  double depth;              ///< m of range the return spreads over
   Eigen::Vector2d velocity;  ///< world-frame velocity of the surface (movers), m/s
   Eigen::Vector2d normal;    ///< unit surface normal facing the ray origin
   std::uint32_t id;          ///< primitive id (segments, then circles); movers: kMoverBit | index
@@ -182,40 +182,40 @@ class World {
 struct ScanningOptions {
   int azimuths = 400;
   int bins = 3768;
-  double range_resolution = 0.0438;   ///< m per bin (the dataset's figure)
-  double sweep_period = 0.25;         ///< s (4 Hz)
+  double range_resolution = 0.0438;  ///< m per bin (the dataset's figure)
+  double sweep_period = 0.25;        ///< s (4 Hz)
   int encoder_size = 5600;
-  double beam_width_deg = 1.0;        ///< −3 dB, smeared across neighbouring azimuths
-  int beam_rays = 7;                  ///< sub-rays across ±0.9 beam widths
-  double range_psf_sigma = 0.15;      ///< m, main lobe of the range response
-  double range_sidelobe_db = -32.0;   ///< range sidelobe level relative to each bin of a return
-  double range_sidelobe_length = 0.5; ///< m, exponential decay of the sidelobes
-  double range_loss_db_per_decade = 0.0;   ///< power fall with range beyond 10 m
-  double target_snr_db = 49.0;        ///< a facade at 10 m, normal incidence, over the noise mean
-  double noise_rise_db = 0.0;         ///< noise mean grows by this much from 0 to max range
-  double display_db_range = 36.0;     ///< dB spanned by 0..255
-  double noise_display_level = 0.08;  ///< 0..1 value of the noise mean
+  double beam_width_deg = 1.0;            ///< −3 dB, smeared across neighbouring azimuths
+  int beam_rays = 7;                      ///< sub-rays across ±0.9 beam widths
+  double range_psf_sigma = 0.15;          ///< m, main lobe of the range response
+  double range_sidelobe_db = -32.0;       ///< range sidelobe level relative to each bin of a return
+  double range_sidelobe_length = 0.5;     ///< m, exponential decay of the sidelobes
+  double range_loss_db_per_decade = 0.0;  ///< power fall with range beyond 10 m
+  double target_snr_db = 49.0;            ///< a facade at 10 m, normal incidence, over the noise mean
+  double noise_rise_db = 0.0;             ///< noise mean grows by this much from 0 to max range
+  double display_db_range = 36.0;         ///< dB spanned by 0..255
+  double noise_display_level = 0.08;      ///< 0..1 value of the noise mean
   /// Compression of strong returns in the displayed power: dB over the noise mean above the knee
   /// count `display_compression` times (1: a plain log display). 0.35 above 10 dB reproduces the
   /// power distribution of the thresholded points of the real RADIATE scans.
   double display_knee_db = 55.0;
   double display_compression = 0.35;
-  double speckle_looks = 2.0;         ///< target fluctuation: gamma shape (1: Rayleigh)
+  double speckle_looks = 2.0;  ///< target fluctuation: gamma shape (1: Rayleigh)
   /// Share of facades and vehicle sides smooth enough to mirror (chosen per surface, so a ghost
   /// is a coherent mirrored structure, not salt noise): the beam bounces off them and what it
   /// meets next appears behind the mirror, at the total path length.
   double ghost_probability = 0.3;
-  double ghost_attenuation_db = 12.0; ///< ghost power below the direct return of what it shows
-  double saturation_probability = 0.0;    ///< per azimuth: a bright saturated line
+  double ghost_attenuation_db = 12.0;   ///< ghost power below the direct return of what it shows
+  double saturation_probability = 0.0;  ///< per azimuth: a bright saturated line
   double saturation_db = 10.0;
-  double leakage_db = 15.0;           ///< near-range leakage (first ~1.5 m) over the noise
+  double leakage_db = 15.0;  ///< near-range leakage (first ~1.5 m) over the noise
   /// Diffuse ground clutter (grass, kerbs, gravel, litter): a fixed random field in the world,
   /// seen up to the first opaque surface. Mean power over the noise at 10 m of a cluttered cell;
   /// share of 1 m cells that are cluttered (bilinear between cells); Rayleigh-distributed.
   double ground_clutter_db = 8.0;
   double ground_clutter_cover = 0.0;
-  double max_range = 165.0;           ///< m rendered (beyond: noise only)
-  double range_offset_bins = 0.5;     ///< bin b lies at (b + offset) · resolution (Oxford 0.5, RADIATE 0)
+  double max_range = 165.0;        ///< m rendered (beyond: noise only)
+  double range_offset_bins = 0.5;  ///< bin b lies at (b + offset) · resolution (Oxford 0.5, RADIATE 0)
 
   // What the Navtech CTS350-X of the Oxford Radar RobotCar dataset shows beyond the earlier model
   // (the radiate profile turns each off):
@@ -224,8 +224,8 @@ struct ScanningOptions {
   /// value and a coarse staircase near the floor (0, 6, 9, 12, 14, 15, 17, ...), as the real files
   /// have it; display_db_range and noise_display_level are then unused. 0: the display above.
   double display_counts = 1.0;
-  double noise_counts = 2.45;         ///< mean noise power in counts (display_counts)
-  double leakage_length = 0.5;        ///< m, exponential decay of the near-range leakage
+  double noise_counts = 2.45;   ///< mean noise power in counts (display_counts)
+  double leakage_length = 0.5;  ///< m, exponential decay of the near-range leakage
   /// Antenna sidelobes in azimuth: every return also appears in the neighbouring azimuths at this
   /// level (dB, relative to its main-lobe power) decaying by exp(−|Δθ| / width); −200: none.
   double azimuth_sidelobe_db = -3.0;
@@ -268,29 +268,29 @@ void applyProfile(ScanningProfile profile, WorldOptions& world, ScanningOptions&
 
 /// ARS408-21 automotive radars with nuScenes' five mountings.
 struct AutomotiveOptions {
-  double period = 1.0 / 13.0;         ///< s per sweep of each radar
-  double jitter = 0.002;              ///< s, per-sweep timing jitter
-  double near_fov_deg = 60.0, near_range = 70.0;   ///< ± azimuth
+  double period = 1.0 / 13.0;                     ///< s per sweep of each radar
+  double jitter = 0.002;                          ///< s, per-sweep timing jitter
+  double near_fov_deg = 60.0, near_range = 70.0;  ///< ± azimuth
   double far_fov_deg = 9.0, far_range = 200.0;
   double ray_step_deg = 0.5;
-  double detection_probability = 0.35;///< per surface return (before merging into clusters)
-  double cluster_distance = 1.0;      ///< m: returns closer than this merge into one detection
+  double detection_probability = 0.35;  ///< per surface return (before merging into clusters)
+  double cluster_distance = 1.0;        ///< m: returns closer than this merge into one detection
   int max_detections = 125;
-  double clutter_per_sweep = 4.0;     ///< mean false detections a sweep
-  double range_sigma = 0.15;          ///< m (ARS408 spec: 0.1 near … 0.4 far)
-  double azimuth_sigma_deg = 0.3;     ///< (spec: 0.1° … 1°)
+  double clutter_per_sweep = 4.0;  ///< mean false detections a sweep
+  double range_sigma = 0.15;       ///< m (ARS408 spec: 0.1 near … 0.4 far)
+  double azimuth_sigma_deg = 0.3;  ///< (spec: 0.1° … 1°)
   double rcs_sigma_db = 3.0;
-  double doppler_sigma = 0.1;         ///< m/s
-  double ghost_probability = 0.05;    ///< per detection on a vehicle: a mirrored multipath ghost
+  double doppler_sigma = 0.1;       ///< m/s
+  double ghost_probability = 0.05;  ///< per detection on a vehicle: a mirrored multipath ghost
 };
 
 struct SequenceOptions {
-  std::size_t start = 0;       ///< first trajectory pose used
-  std::size_t frames = 0;      ///< frames written (scans / front-radar sweeps); 0: as many as the trajectory has
+  std::size_t start = 0;   ///< first trajectory pose used
+  std::size_t frames = 0;  ///< frames written (scans / front-radar sweeps); 0: as many as the trajectory has
   std::int64_t start_stamp_us = 1547120000000000;  ///< the first frame's timestamp
-  int png_compression = 1;     ///< zlib level of the scan PNGs (fast)
-  bool progress = false;        ///< a progress line on stderr
-  std::string scene_name = "sim-0001";  ///< automotive: the scene's name in scene.json
+  int png_compression = 1;                         ///< zlib level of the scan PNGs (fast)
+  bool progress = false;                           ///< a progress line on stderr
+  std::string scene_name = "sim-0001";             ///< automotive: the scene's name in scene.json
 };
 
 /// One scan at time `t` (s, trajectory time) rendered into `scan` (Oxford conventions).
@@ -300,16 +300,16 @@ void renderScan(const World& world, const SimTrajectory& ego, double t, std::uin
 
 struct SequenceSummary {
   std::size_t frames = 0;
-  double duration = 0.0;     ///< s simulated
-  double distance = 0.0;     ///< m driven
-  double seconds = 0.0;      ///< wall time
+  double duration = 0.0;  ///< s simulated
+  double distance = 0.0;  ///< m driven
+  double seconds = 0.0;   ///< wall time
 };
 
 /// Writes an Oxford-layout sequence into `dir`: radar/<stamp>.png, radar.timestamps,
 /// gt/radar_odometry.csv (Oxford axes; as in the dataset, source_ and destination_timestamp lie half
-/// a sweep after the scans' source_ and destination_radar_timestamp), and gt/poses.txt (KITTI, vehicle frame, z up, first pose
-/// identity, one line a scan: a convenience for radar_eval). Scan timestamps mark the sweep's
-/// first azimuth (as in Oxford); azimuth a is taken at stamp + a · period / azimuths.
+/// a sweep after the scans' source_ and destination_radar_timestamp), and gt/poses.txt (KITTI, vehicle frame, z up,
+/// first pose identity, one line a scan: a convenience for radar_eval). Scan timestamps mark the sweep's first azimuth
+/// (as in Oxford); azimuth a is taken at stamp + a · period / azimuths.
 SequenceSummary writeScanningSequence(const std::string& dir, const SimTrajectory& ego, const WorldOptions& world,
                                       const ScanningOptions& options, const SequenceOptions& sequence);
 

@@ -18,10 +18,10 @@ namespace detail {
 /// in [-1/2, 1/2], 2^f by its Taylor series to degree 7, 2^k put in the exponent bits. Inline and
 /// about a third of libm's exp in this loop; a pure function, so results stay deterministic.
 RADAR_NDT_ALWAYS_INLINE double expNegative(double x) {
-  x = x >= -700.0 ? x : -700.0;  // branch-free, so the function stays inlined
+  x = x >= -700.0 ? x : -700.0;             // branch-free, so the function stays inlined
   const double t = x * 1.4426950408889634;  // log2(e), t <= 0
   const double k = static_cast<double>(static_cast<std::int64_t>(t - 0.5));  // truncation: t rounded
-  const double f = (t - k) * 0.6931471805599453;  // e^f = 2^(t - k)
+  const double f = (t - k) * 0.6931471805599453;                             // e^f = 2^(t - k)
   // Degree 7 in Estrin's form (three dependent multiply-adds instead of ten in Horner's): for
   // |f| <= ln2/2 the truncation error is below f⁸/8!·e^|f| < 8e-9 relative.
   const double f2 = f * f, f4 = f2 * f2;

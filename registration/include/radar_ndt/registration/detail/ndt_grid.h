@@ -53,7 +53,8 @@ struct NdtGrid {
 /// positive weight wᵢ = max(pᵢ − s, 0) (eq. 1), the weighted mean μ = Σ wᵢpᵢ / Σ wᵢ and the
 /// probabilistic covariance Σ = Σ wᵢ[(pᵢ−μ)(pᵢ−μ)ᵀ + Σᵢ] / Σ wᵢ, its small eigenvalue floored.
 template <typename PointT>
-void buildNdtGrid(const pcl::PointCloud<PointT>& target, double g, const WeightedNDT2DSettings& settings, NdtGrid& grid) {
+void buildNdtGrid(const pcl::PointCloud<PointT>& target, double g, const WeightedNDT2DSettings& settings,
+                  NdtGrid& grid) {
   const CellLookup lookup = settings.cell_lookup;
   grid.setLookup(g, lookup);
   grid.cells.clear();

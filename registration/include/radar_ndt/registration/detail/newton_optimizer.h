@@ -19,7 +19,9 @@ namespace detail {
 struct StepTolerance {
   double translation_sq;
   double rotation_cos;
-  bool isSmall(const Eigen::Vector3d& d) const { return d.head<2>().squaredNorm() < translation_sq && std::cos(d.z()) >= rotation_cos; }
+  bool isSmall(const Eigen::Vector3d& d) const {
+    return d.head<2>().squaredNorm() < translation_sq && std::cos(d.z()) >= rotation_cos;
+  }
 };
 
 /// Where a Newton step that no line search can improve on still counts as converged: within this
@@ -88,7 +90,7 @@ bool minimizeNewton(const Cost& cost, Eigen::Vector3d& x, NewtonState<Extra>& st
     ++*total;
     Eigen::Vector3d step;
     if (!newtonDirection(state.H, state.g, &step)) return false;  // no point matched: nothing to optimise
-    const bool near_optimum = stationary.contains(step);  // judged on the full Newton step, before the limit
+    const bool near_optimum = stationary.contains(step);          // judged on the full Newton step, before the limit
     limit.apply(step);
     const double slope = state.g.dot(step);  // < 0 for a descent direction
     // A step below the tolerance is not tested against the score: the score jumps where points
@@ -107,8 +109,8 @@ bool minimizeNewton(const Cost& cost, Eigen::Vector3d& x, NewtonState<Extra>& st
     NewtonState<Extra> next;
     for (int ls = 0; ls < kMaxHalvings; ++ls) {
       if (ls > 0 && tolerance.isSmall(alpha * step)) break;
-      next.f = ls == 0 ? cost(x + step, &next.g, &next.H, &next.extra)
-                       : cost(x + alpha * step, nullptr, nullptr, nullptr);
+      next.f =
+          ls == 0 ? cost(x + step, &next.g, &next.H, &next.extra) : cost(x + alpha * step, nullptr, nullptr, nullptr);
       if (next.f <= state.f + 1e-4 * alpha * slope) {
         accepted = true;
         have_derivatives = ls == 0;

@@ -59,7 +59,9 @@ inline bool usable(double x, double y, const Eigen::Vector3d& cov) {
   return std::isfinite(x) && std::isfinite(y) && cov.allFinite() && cov.x() >= 0 && cov.z() >= 0;
 }
 
-inline std::int32_t floorToInt(double v) { return static_cast<std::int32_t>(std::floor(v)); }
+inline std::int32_t floorToInt(double v) {
+  return static_cast<std::int32_t>(std::floor(v));
+}
 
 }  // namespace detail
 }  // namespace radar_ndt

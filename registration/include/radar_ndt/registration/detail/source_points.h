@@ -26,8 +26,8 @@ struct WeightedPoint2D {
 /// Buffers the voxel merge reuses from scan to scan (so nothing is allocated while scans keep
 /// their size).
 struct SourceVoxelScratch {
-  std::vector<std::int32_t> keys;   ///< each point's voxel key
-  std::vector<std::int32_t> table;  ///< the dense table of voxel slots
+  std::vector<std::int32_t> keys;       ///< each point's voxel key
+  std::vector<std::int32_t> table;      ///< the dense table of voxel slots
   std::vector<WeightedPoint2D> merged;  ///< the merged points (then the previous source)
 };
 
@@ -107,7 +107,8 @@ inline void mergeSourceVoxels(double v, std::vector<WeightedPoint2D>& points, So
     KeyIndexMap map(n);
     for (std::size_t i = 0; i < n; ++i) {
       bool inserted = false;
-      const std::int32_t slot = map.findOrInsert(keys[2 * i], keys[2 * i + 1], static_cast<std::int32_t>(merged.size()), inserted);
+      const std::int32_t slot =
+          map.findOrInsert(keys[2 * i], keys[2 * i + 1], static_cast<std::int32_t>(merged.size()), inserted);
       if (inserted) merged.push_back({0, 0, 0});
       accumulate(slot, points[i]);
     }

@@ -25,8 +25,8 @@ template <typename PointSource, typename PointTarget>
 WeightedNDT2D<PointSource, PointTarget>::WeightedNDT2D() {
   reg_name_ = "WeightedNDT2D";
   max_iterations_ = 35;
-  transformation_epsilon_ = 1e-6;                      // (1 mm)² of translation increment
-  transformation_rotation_epsilon_ = std::cos(1e-4);   // 0.1 mrad of rotation increment
+  transformation_epsilon_ = 1e-6;                     // (1 mm)² of translation increment
+  transformation_rotation_epsilon_ = std::cos(1e-4);  // 0.1 mrad of rotation increment
   this->tree_.reset(new detail::LazyKdTree<PointTarget>());
 }
 
@@ -56,9 +56,10 @@ void WeightedNDT2D<PointSource, PointTarget>::setInputTarget(const PointCloudTar
 template <typename PointSource, typename PointTarget>
 void WeightedNDT2D<PointSource, PointTarget>::setMaxStep(double translation_m, double rotation_rad) {
   if (!(rotation_rad > 0.0) || !std::isfinite(rotation_rad) || !std::isfinite(translation_m)) {
-    PCL_ERROR("[radar_ndt::%s::setMaxStep] the rotation limit must be positive and finite and the translation finite "
-              "(<= 0: half the grid); keeping the old ones\n",
-              reg_name_.c_str());
+    PCL_ERROR(
+        "[radar_ndt::%s::setMaxStep] the rotation limit must be positive and finite and the translation finite "
+        "(<= 0: half the grid); keeping the old ones\n",
+        reg_name_.c_str());
     return;
   }
   settings_.max_step_translation = translation_m;
@@ -79,7 +80,8 @@ void WeightedNDT2D<PointSource, PointTarget>::setSettings(const WeightedNDT2DSet
 
 template <typename PointSource, typename PointTarget>
 void WeightedNDT2D<PointSource, PointTarget>::setResolutions(const std::vector<float>& sizes) {
-  if (sizes.empty() || std::any_of(sizes.begin(), sizes.end(), [](float g) { return !(g > 0.0f) || !std::isfinite(g); })) {
+  if (sizes.empty() ||
+      std::any_of(sizes.begin(), sizes.end(), [](float g) { return !(g > 0.0f) || !std::isfinite(g); })) {
     PCL_ERROR("[radar_ndt::%s::setResolutions] grid sizes must be positive and finite; keeping the old ones\n",
               reg_name_.c_str());
     return;
@@ -189,9 +191,10 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
     // Not an error of the call: the data left nothing to match (e.g. Doppler weights that agree
     // with no point, in the source or in the target: the last cycle's weighted submap). hasConverged()
     // and wasDegenerate() report it, as for too few matched points below, without a message a scan.
-    PCL_DEBUG("[radar_ndt::%s::computeTransformation] degenerate problem: %zu target cells, %zu weighted source "
-              "points\n",
-              reg_name_.c_str(), grids_.empty() ? std::size_t(0) : grids_.back().cells.size(), source_points_.size());
+    PCL_DEBUG(
+        "[radar_ndt::%s::computeTransformation] degenerate problem: %zu target cells, %zu weighted source "
+        "points\n",
+        reg_name_.c_str(), grids_.empty() ? std::size_t(0) : grids_.back().cells.size(), source_points_.size());
     degenerate_ = true;
     finish(x);
     return;
@@ -229,8 +232,8 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
       // A line search that fails within 5 % of a cell of the Newton model's optimum is at the
       // optimum to the score's resolution; further away it is stuck.
       const detail::StationaryRegion stationary{0.05 * grid.resolution, 0.01};
-      stage_converged = detail::minimizeNewton(cost, x, state, tolerance, limit, stationary, max_iterations_, &stage_iterations,
-                                               &final_num_iterations_);
+      stage_converged = detail::minimizeNewton(cost, x, state, tolerance, limit, stationary, max_iterations_,
+                                               &stage_iterations, &final_num_iterations_);
       if (diagnose) final_state = state;
     }
   }
@@ -244,9 +247,10 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
   const double imax = es.eigenvalues().maxCoeff(), imin = es.eigenvalues().minCoeff();
   if (num_matched_points_ < 3 || !(imax > 0) || !(imin > 1e-9 * imax)) {
     degenerate_ = true;
-    PCL_DEBUG("[radar_ndt::%s::computeTransformation] degenerate: %zu matched points, information eigenvalues "
-              "%g..%g\n",
-              reg_name_.c_str(), num_matched_points_, imin, imax);
+    PCL_DEBUG(
+        "[radar_ndt::%s::computeTransformation] degenerate: %zu matched points, information eigenvalues "
+        "%g..%g\n",
+        reg_name_.c_str(), num_matched_points_, imin, imax);
   } else {
     pose_covariance_ = info.inverse();
   }

@@ -45,38 +45,7 @@ fi
 # Applies (or, with "revert", undoes) one mutation's replacements to the scratch copy. Every OLD
 # text must occur exactly once in its file, and every NEW text once after the change.
 apply() {  # apply|revert ID
-  python3 - "$1" "$2" "$list" "$src" <<'EOF'
-import sys
-mode, wanted, path, src = sys.argv[1:5]
-blocks, cur = {}, None
-for line in open(path, encoding='utf-8'):
-    line = line.rstrip('\n')
-    if line.startswith('## '):
-        ident = line[3:].split()[0]
-        cur = blocks[ident] = {'what': line[3 + len(ident):].strip(), 'file': None, 'pairs': []}
-    elif cur is None or not line.strip() or line.startswith('#'):
-        continue
-    elif line.startswith('file: '):
-        cur['file'] = line[6:].strip()
-    elif line.startswith('- '):
-        cur['pairs'].append([line[2:], None])
-    elif line.startswith('+ '):
-        cur['pairs'][-1][1] = line[2:]
-m = blocks[wanted]
-f = src + '/' + m['file']
-text = open(f, encoding='utf-8').read()
-for old, new in m['pairs']:
-    a, b = (old, new) if mode == 'apply' else (new, old)
-    n = text.count(a)
-    if n != 1:
-        sys.exit('%s: %r occurs %d times in %s (must be once)' % (wanted, a, n, m['file']))
-    text = text.replace(a, b)
-if mode == 'apply':  # the revert needs each new text once, too
-    for old, new in m['pairs']:
-        if text.count(new) != 1:
-            sys.exit('%s: %r would occur %d times in %s (must be once)' % (wanted, new, text.count(new), m['file']))
-open(f, 'w', encoding='utf-8').write(text)
-EOF
+  python3 test/mutation/mutations.py "$1" "$2" "$list" "$src"
 }
 
 ids=("$@")

@@ -37,26 +37,15 @@ const char* toString(Method method);
 
 namespace detail {
 template <typename R, typename = void>
-struct HasPowerShift : std::false_type {};
-template <typename R>
-struct HasPowerShift<
-    R, std::void_t<decltype(std::declval<R&>().setPowerShift(0.f)),
-                   decltype(std::declval<R&>().setShiftSourceWeights(true)), decltype(std::declval<R&>().getNdtScore()),
-                   decltype(std::declval<R&>().getNumSourcePoints())>> : std::true_type {};
-template <typename R, typename = void>
 struct HasResolution : std::false_type {};
 template <typename R>
 struct HasResolution<R, std::void_t<decltype(std::declval<R&>().setResolution(1.f))>> : std::true_type {};
-template <typename R, typename = void>
-struct HasPoseCovariance : std::false_type {};
-template <typename R>
-struct HasPoseCovariance<R, std::void_t<decltype(Eigen::Matrix3d(std::declval<R&>().getPoseCovariance()))>>
-    : std::true_type {};
 template <typename R, typename = void>
 struct HasTransformationLikelihood : std::false_type {};
 template <typename R>
 struct HasTransformationLikelihood<R, std::void_t<decltype(std::declval<R&>().getTransformationLikelihood())>>
     : std::true_type {};
+// PCL before 1.12 names the NDT score getTransformationProbability.
 template <typename R, typename = void>
 struct HasTransformationProbability : std::false_type {};
 template <typename R>
@@ -64,77 +53,76 @@ struct HasTransformationProbability<R, std::void_t<decltype(std::declval<R&>().g
     : std::true_type {};
 }  // namespace detail
 
-/// A registration and what the odometry may change or read on it, decided once, from the static
-/// type it is built from (no casts at run time):
-///  - ours (WeightedNDT2D): grid = resolution, power shift, score = NDT score, fit per point;
+/// A registration and what the odometry may change or read on it that pcl::Registration does not
+/// say, decided once, from the static type it is built from (no casts at run time):
+///  - ours (WeightedNDT2D): grid = resolution, power shift, everything else from its result
+///    (WeightedNDT2DResult: score, score per point, pose covariance);
 ///  - a matcher with setResolution (PCL's NDT): grid = resolution, score = its transformation
-///    likelihood;
+///    likelihood (when it has one);
 ///  - any other (PCL's ICP, a user's): grid = max correspondence distance, score = −fitness score.
 /// Pass the concrete type's pointer: a WeightedNDT2D given as a plain RadarRegistration::Ptr is
 /// driven as "any other". Empty (no registration): the odometry dead-reckons.
 class MatcherAdapter {
  public:
+  using Ours = WeightedNDT2D<PointRadar, PointRadar>;
+
   MatcherAdapter() = default;
   MatcherAdapter(std::nullptr_t) {}
   template <typename R, typename = std::enable_if_t<std::is_base_of_v<RadarRegistration, R>>>
   MatcherAdapter(std::shared_ptr<R> registration) : registration_(registration) {
     if (!registration) return;
     R* r = registration.get();
+    if constexpr (std::is_base_of_v<Ours, R>) ours_ = r;
     if constexpr (detail::HasResolution<R>::value)
       set_grid_ = [r](double g) { r->setResolution(static_cast<float>(g)); };
     else
       set_grid_ = [r](double g) { r->setMaxCorrespondenceDistance(g); };
-    if constexpr (detail::HasPowerShift<R>::value) {
-      set_power_shift_ = [r](float s, bool shift_source) {
-        r->setPowerShift(s);
-        r->setShiftSourceWeights(shift_source);
-      };
-      score_ = [r] { return r->getNdtScore(); };
-      fit_per_point_ = [r] {
-        return r->getNumSourcePoints() == 0 ? std::numeric_limits<double>::quiet_NaN()
-                                            : r->getNdtScore() / static_cast<double>(r->getNumSourcePoints());
-      };
-    } else if constexpr (detail::HasTransformationLikelihood<R>::value) {
+    if constexpr (std::is_base_of_v<Ours, R>)
+      ;  // ours reports through its result
+    else if constexpr (detail::HasTransformationLikelihood<R>::value)
       score_ = [r] { return r->getTransformationLikelihood(); };
-    } else if constexpr (detail::HasTransformationProbability<R>::value) {
+    else if constexpr (detail::HasTransformationProbability<R>::value)
       score_ = [r] { return r->getTransformationProbability(); };
-    }
-    if constexpr (detail::HasPoseCovariance<R>::value)
-      pose_covariance_ = [r] { return Eigen::Matrix3d(r->getPoseCovariance()); };
   }
 
   explicit operator bool() const { return static_cast<bool>(registration_); }
   RadarRegistration& registration() const { return *registration_; }
   const RadarRegistration::Ptr& registrationPtr() const { return registration_; }
+  /// Ours, or nullptr for another matcher.
+  Ours* ours() const { return ours_; }
 
   /// The grid size: NDT cell size, or ICP's max correspondence distance (m).
   void setGrid(double grid) const { set_grid_(grid); }
   /// Sets the power shift s of eq. (1)-(2), in the cells and, when `shift_source` (the paper), in
   /// the matching weights; false (nothing changed) for a matcher without power weights.
   bool setPowerShift(float shift, bool shift_source = true) const {
-    if (!set_power_shift_) return false;
-    set_power_shift_(shift, shift_source);
+    if (!ours_) return false;
+    ours_->setPowerShift(shift);
+    ours_->setShiftSourceWeights(shift_source);
     return true;
   }
   /// How well the last align() fits, larger is better, comparable between aligns of the same
   /// source and target.
-  double score() const { return score_ ? score_() : -registration_->getFitnessScore(); }
-  /// Ours only: the last align()'s NDT score per source point, comparable between scans of one
-  /// sequence (a scan that fits its target nowhere, e.g. all noise, scores a fraction of the
-  /// usual); NaN for other matchers.
-  double fitPerPoint() const { return fit_per_point_ ? fit_per_point_() : std::numeric_limits<double>::quiet_NaN(); }
+  double score() const {
+    if (ours_) return ours_->getNdtScore();
+    return score_ ? score_() : -registration_->getFitnessScore();
+  }
+  /// Ours only: the last align()'s NDT score per source point (WeightedNDT2DResult::scorePerPoint);
+  /// NaN for other matchers.
+  double fitPerPoint() const {
+    return ours_ ? ours_->getResult().scorePerPoint() : std::numeric_limits<double>::quiet_NaN();
+  }
   /// The last align()'s pose covariance as the matcher reports it; NaN for a matcher without one.
   Eigen::Matrix3d poseCovariance() const {
-    return pose_covariance_ ? pose_covariance_() : Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    return ours_ ? ours_->getResult().pose_covariance
+                 : Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   }
 
  private:
   RadarRegistration::Ptr registration_;
+  Ours* ours_ = nullptr;
   std::function<void(double)> set_grid_;
-  std::function<void(float, bool)> set_power_shift_;
   std::function<double()> score_;
-  std::function<double()> fit_per_point_;
-  std::function<Eigen::Matrix3d()> pose_covariance_;
 };
 
 /// The settings each method is built with (the grid comes from the odometry's options).

@@ -9,7 +9,8 @@
 // Cost: each source point scored against the cells near it, score = Σ wᵢ exp(−½ qᵀ Σ⁻¹ q) with
 // q = T(x)pᵢ − μ and wᵢ = max(pᵢ − s, 0) · exp(−½(σx + σy)) (eq. 2); maximised by Newton's method on
 // SE(2) with the analytic gradient and Hessian (Biber & Straßer 2003).
-// Where each part lives: the settings in weighted_ndt_2d_settings.h; the target model in
+// Where each part lives: the settings in weighted_ndt_2d_settings.h, what align() found in
+// weighted_ndt_2d_result.h (getResult()); the target model in
 // detail/ndt_grid.h, the weighted source points in detail/source_points.h, the cost in
 // detail/ndt_cost.h and the optimiser in detail/newton_optimizer.h; impl/ joins them.
 //
@@ -28,7 +29,9 @@
 
 #include "radar_ndt/point_types.h"
 #include "radar_ndt/registration/detail/ndt_grid.h"
+#include "radar_ndt/registration/detail/newton_optimizer.h"
 #include "radar_ndt/registration/detail/source_points.h"
+#include "radar_ndt/registration/weighted_ndt_2d_result.h"
 #include "radar_ndt/registration/weighted_ndt_2d_settings.h"
 
 namespace radar_ndt {
@@ -62,6 +65,10 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   void setSettings(const WeightedNDT2DSettings& settings);
   const WeightedNDT2DSettings& getSettings() const { return settings_; }
 
+  // Each setter below writes one field of WeightedNDT2DSettings and validates the result: a value
+  // out of range throws std::invalid_argument naming the field and changes nothing, as
+  // setSettings() does (docs/matcher.md).
+
   /// Grid size g (m), single stage. Default 3.0 m.
   void setResolution(float g) { setResolutions({g}); }
   /// Coarse-to-fine grid sizes (e.g. {9, 6, 4}); each stage starts from the previous result.
@@ -74,14 +81,14 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   float getPowerShift() const { return settings_.power_shift; }
   /// Whether the matching weights of eq. (2) use the shift too (the paper, and the default) or are
   /// p·exp(−½(σx + σy)) with the shift kept for the cells of eq. (1) only (an ablation).
-  void setShiftSourceWeights(bool on) { settings_.shift_source_weights = on; }
+  void setShiftSourceWeights(bool on);
   bool getShiftSourceWeights() const { return settings_.shift_source_weights; }
 
   /// A cell's smallest covariance eigenvalue is raised to at least ratio × its largest. Default 0.01.
   void setEigenvalueRatio(double ratio);
   double getEigenvalueRatio() const { return settings_.eigenvalue_ratio; }
 
-  /// Cells built from fewer points are dropped. Default 3.
+  /// Cells built from fewer points are dropped (≥ 1). Default 3.
   void setMinPointsPerCell(int n);
   int getMinPointsPerCell() const { return settings_.min_points_per_cell; }
 
@@ -89,40 +96,42 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   /// weighted centroid carrying their summed weight, before matching. 0 turns it off. Default
   /// 0.25 m: small against the cells' spread, it leaves the cost almost unchanged and cuts the
   /// evaluation time with the point count.
-  void setSourceVoxelSize(double size_m) { settings_.source_voxel_size = std::max(0.0, size_m); }
+  void setSourceVoxelSize(double size_m);
   double getSourceVoxelSize() const { return settings_.source_voxel_size; }
 
   void setCellLookup(CellLookup lookup);
   CellLookup getCellLookup() const { return settings_.cell_lookup; }
 
   /// Newton steps are limited to this translation (m; ≤ 0: half the grid size, the default) and
-  /// rotation (rad, default 0.2) before the line search. A rotation limit that is not positive and
-  /// finite is refused (PCL_ERROR, nothing changes): no step could be taken.
+  /// rotation (rad, default 0.2; positive and finite, or no step could be taken) before the line
+  /// search.
   void setMaxStep(double translation_m, double rotation_rad);
+
+  /// Everything the last align() found: transform, convergence and why it stopped, iterations,
+  /// cost, Hessian, pose covariance, source and matched points (WeightedNDT2DResult).
+  const WeightedNDT2DResult& getResult() const { return result_; }
 
   /// Newton iterations of the last align(), summed over coarse-to-fine stages (PCL NDT's name).
   /// setMaximumIterations() bounds the iterations of each grid stage (default 35); a stage first
-  /// iterates on a 1-in-4 subsample of the source, then on all points, within that one budget.
-  int getFinalNumIteration() const { return final_num_iterations_; }
+  /// iterates on a subsample of the source, then on all points, within that one budget.
+  int getFinalNumIteration() const { return result_.iterations; }
   /// Hessian of the negative NDT score at the solution, in (x, y, yaw).
-  const Eigen::Matrix3d& getFinalHessian() const { return final_hessian_; }
-  /// 3x3 covariance of (x, y, yaw): the inverse of the weighted point-to-distribution information
-  /// Σᵢ wᵢ eᵢ Jᵢᵀ Σ⁻¹ Jᵢ (eᵢ the point's Gaussian score). Optimistic (treats points as independent);
-  /// infinite diagonal and zero elsewhere when the problem is degenerate.
-  const Eigen::Matrix3d& getPoseCovariance() const { return pose_covariance_; }
+  const Eigen::Matrix3d& getFinalHessian() const { return result_.hessian; }
+  /// 3x3 covariance of (x, y, yaw) (WeightedNDT2DResult::pose_covariance).
+  const Eigen::Matrix3d& getPoseCovariance() const { return result_.pose_covariance; }
   /// Source points that found at least one cell at the solution (last stage).
-  std::size_t getNumMatchedPoints() const { return num_matched_points_; }
+  std::size_t getNumMatchedPoints() const { return result_.num_matched_points; }
   /// Final NDT score Σ wᵢ exp(−½ qᵀΣ⁻¹q) (larger is better). pcl::Registration::getFitnessScore()
   /// keeps PCL's meaning (mean squared nearest-neighbour distance) and builds a kd-tree to get it.
-  double getNdtScore() const { return final_score_; }
+  double getNdtScore() const { return 0.0 - result_.final_cost; }
   /// Source points the cost uses: finite, positive weight, after the voxel merge.
-  std::size_t getNumSourcePoints() const { return source_points_.size(); }
+  std::size_t getNumSourcePoints() const { return result_.num_source_points; }
   /// Cells in the target model of the finest grid, and its memory (bytes), as last built.
   std::size_t getNumCells() const { return grids_.empty() ? 0 : grids_.back().cells.size(); }
   std::size_t getTargetModelBytes() const;
   /// True when the last align() stopped because the problem was degenerate (too few matched
   /// points, a rank-deficient Hessian, no target cells, an empty source or target).
-  bool wasDegenerate() const { return degenerate_; }
+  bool wasDegenerate() const { return result_.degenerate(); }
 
  protected:
   using Base::converged_;
@@ -144,19 +153,29 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   /// 1 − the transformation epsilon, as pcl::IterativeClosestPoint reads it.
   double rotationEpsilon() const;
   void prepareSource();
+  /// Applies `change` to a copy of the settings, validates it and keeps it; `model`: the change
+  /// invalidates the target model (rebuilt at the next setInputTarget() or align()).
+  template <typename Change>
+  void changeSettings(Change&& change, bool model);
+  /// The Newton settings of one phase of a stage on `grid` (phase 0: the subsampled one).
+  detail::NewtonSettings newtonSettings(const detail::NdtGrid& grid, int phase, int iterations_left) const;
+  /// Every grid stage from `x`, coarse to fine; the result's iterations and status are set, and
+  /// `final_state` holds the finest grid's last evaluation with the diagnostics.
+  template <typename State>
+  void solveStages(Eigen::Vector3d& x, State& final_state);
+  /// Cost, Hessian, matched points, covariance and degeneracy from the finest grid's last evaluation.
+  template <typename State>
+  void diagnose(const State& final_state);
+  /// Sets the result's transform (and PCL's) to `x` and moves `output`, the source as
+  /// pcl::Registration::align() copied it, there.
+  void finish(PointCloudSource& output, const Eigen::Vector3d& x);
 
   WeightedNDT2DSettings settings_;
   std::vector<detail::NdtGrid> grids_;  // one per resolution, coarse to fine
   bool model_stale_ = false;            // a setting changed since grids_ was built
   std::vector<detail::WeightedPoint2D> source_points_;
   detail::SourceVoxelScratch voxel_scratch_;
-
-  int final_num_iterations_ = 0;
-  Eigen::Matrix3d final_hessian_ = Eigen::Matrix3d::Zero();
-  Eigen::Matrix3d pose_covariance_ = Eigen::Matrix3d::Zero();
-  std::size_t num_matched_points_ = 0;
-  double final_score_ = 0;
-  bool degenerate_ = false;
+  WeightedNDT2DResult result_;
 };
 
 }  // namespace radar_ndt

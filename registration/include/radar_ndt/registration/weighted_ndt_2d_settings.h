@@ -40,10 +40,39 @@ struct WeightedNDT2DSettings {
   double max_step_translation = -1.0;
   double max_step_rotation = 0.2;
 
-  /// Throws std::invalid_argument naming the first setting out of range: resolutions empty, not
-  /// positive or not finite; power_shift not finite; eigenvalue_ratio outside (0, 1];
-  /// min_points_per_cell < 1; source_voxel_size negative or not finite; max_step_rotation ≤ 0 or
-  /// not finite; max_step_translation not finite.
+  // The solve. PCL's own settings (setMaximumIterations, setTransformationEpsilon,
+  // setTransformationRotationEpsilon) bound each grid stage and its final phase; these are the
+  // rest of the loop's constants (docs/matcher.md).
+  /// Far from the optimum precision does not matter: each grid stage first iterates on every k-th
+  /// source point (in voxel order, spread over the scan) until its steps fall under the coarse
+  /// epsilons, then finishes on all points. 1 turns the coarse phase off.
+  int coarse_subsample = 4;
+  /// Sources with fewer weighted points than this skip the coarse phase.
+  int coarse_min_points = 64;
+  /// The coarse phase's epsilons: squared translation (m², as PCL's transformation epsilon: 1 cm)
+  /// and rotation (rad); the user's epsilons when those are looser.
+  double coarse_transformation_epsilon = 1e-4;
+  double coarse_rotation_epsilon = 1e-3;
+  /// A line search that improves nothing is converged when the Newton step it started from lies
+  /// within this fraction of the grid size and this rotation (rad): the model's optimum is within
+  /// the score's resolution there. Further away it is stuck.
+  double stationary_translation_ratio = 0.05;
+  double stationary_rotation = 0.01;
+  /// Armijo's sufficient-decrease factor of the line search, in (0, 1).
+  double armijo = 1e-4;
+  /// Trial steps of the line search: the full step and its halvings, at most this many in all.
+  int max_halvings = 12;
+  /// The Hessian's eigenvalues are mirrored and floored at this fraction of the largest, in (0, 1).
+  double eigenvalue_floor = 1e-6;
+  /// A failed line search that predicts a decrease below this fraction of the cost is converged.
+  double negligible_decrease = 1e-6;
+  /// Degenerate: fewer matched source points than this at the solution, or an information matrix
+  /// whose smallest eigenvalue is below this ratio of its largest.
+  int min_matched_points = 3;
+  double min_information_ratio = 1e-9;
+
+  /// Throws std::invalid_argument naming the first setting out of range (each field's range is
+  /// in its comment; docs/matcher.md lists them).
   void validate() const;
 };
 

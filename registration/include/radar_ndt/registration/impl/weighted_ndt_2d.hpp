@@ -15,7 +15,6 @@
 
 #include "radar_ndt/registration/detail/lazy_kdtree.h"
 #include "radar_ndt/registration/detail/ndt_cost.h"
-#include "radar_ndt/registration/detail/newton_optimizer.h"
 #include "radar_ndt/registration/weighted_ndt_2d.h"
 #include "radar_ndt/se2.h"
 
@@ -54,72 +53,68 @@ void WeightedNDT2D<PointSource, PointTarget>::setInputTarget(const PointCloudTar
 }
 
 template <typename PointSource, typename PointTarget>
-void WeightedNDT2D<PointSource, PointTarget>::setMaxStep(double translation_m, double rotation_rad) {
-  if (!(rotation_rad > 0.0) || !std::isfinite(rotation_rad) || !std::isfinite(translation_m)) {
-    PCL_ERROR(
-        "[radar_ndt::%s::setMaxStep] the rotation limit must be positive and finite and the translation finite "
-        "(<= 0: half the grid); keeping the old ones\n",
-        reg_name_.c_str());
-    return;
-  }
-  settings_.max_step_translation = translation_m;
-  settings_.max_step_rotation = rotation_rad;
-}
-
-template <typename PointSource, typename PointTarget>
 double WeightedNDT2D<PointSource, PointTarget>::rotationEpsilon() const {
   return transformation_rotation_epsilon_ > 0 ? transformation_rotation_epsilon_ : 1.0 - transformation_epsilon_;
 }
 
 template <typename PointSource, typename PointTarget>
 void WeightedNDT2D<PointSource, PointTarget>::setSettings(const WeightedNDT2DSettings& settings) {
-  settings.validate();
-  settings_ = settings;
-  model_stale_ = true;  // rebuilt at the next setInputTarget() or align()
+  changeSettings([&](WeightedNDT2DSettings& s) { s = settings; }, true);
+}
+
+template <typename PointSource, typename PointTarget>
+template <typename Change>
+void WeightedNDT2D<PointSource, PointTarget>::changeSettings(Change&& change, bool model) {
+  WeightedNDT2DSettings changed = settings_;
+  change(changed);
+  changed.validate();  // throws, naming the field; nothing has changed then
+  settings_ = std::move(changed);
+  if (model) model_stale_ = true;  // rebuilt at the next setInputTarget() or align()
 }
 
 template <typename PointSource, typename PointTarget>
 void WeightedNDT2D<PointSource, PointTarget>::setResolutions(const std::vector<float>& sizes) {
-  if (sizes.empty() ||
-      std::any_of(sizes.begin(), sizes.end(), [](float g) { return !(g > 0.0f) || !std::isfinite(g); })) {
-    PCL_ERROR("[radar_ndt::%s::setResolutions] grid sizes must be positive and finite; keeping the old ones\n",
-              reg_name_.c_str());
-    return;
-  }
-  settings_.resolutions = sizes;
-  model_stale_ = true;  // rebuilt at the next setInputTarget() or align()
+  changeSettings([&](WeightedNDT2DSettings& s) { s.resolutions = sizes; }, true);
 }
 
 template <typename PointSource, typename PointTarget>
-void WeightedNDT2D<PointSource, PointTarget>::setPowerShift(float s) {
-  if (!std::isfinite(s)) {
-    PCL_ERROR("[radar_ndt::%s::setPowerShift] shift must be finite\n", reg_name_.c_str());
-    return;
-  }
-  settings_.power_shift = s;
-  model_stale_ = true;  // rebuilt at the next setInputTarget() or align()
+void WeightedNDT2D<PointSource, PointTarget>::setPowerShift(float shift) {
+  changeSettings([&](WeightedNDT2DSettings& s) { s.power_shift = shift; }, true);
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::setShiftSourceWeights(bool on) {
+  changeSettings([&](WeightedNDT2DSettings& s) { s.shift_source_weights = on; }, false);
 }
 
 template <typename PointSource, typename PointTarget>
 void WeightedNDT2D<PointSource, PointTarget>::setEigenvalueRatio(double ratio) {
-  if (!(ratio > 0.0 && ratio <= 1.0)) {
-    PCL_ERROR("[radar_ndt::%s::setEigenvalueRatio] ratio must be in (0, 1]\n", reg_name_.c_str());
-    return;
-  }
-  settings_.eigenvalue_ratio = ratio;
-  model_stale_ = true;  // rebuilt at the next setInputTarget() or align()
+  changeSettings([&](WeightedNDT2DSettings& s) { s.eigenvalue_ratio = ratio; }, true);
 }
 
 template <typename PointSource, typename PointTarget>
 void WeightedNDT2D<PointSource, PointTarget>::setMinPointsPerCell(int n) {
-  settings_.min_points_per_cell = std::max(1, n);
-  model_stale_ = true;  // rebuilt at the next setInputTarget() or align()
+  changeSettings([&](WeightedNDT2DSettings& s) { s.min_points_per_cell = n; }, true);
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::setSourceVoxelSize(double size_m) {
+  changeSettings([&](WeightedNDT2DSettings& s) { s.source_voxel_size = size_m; }, false);
 }
 
 template <typename PointSource, typename PointTarget>
 void WeightedNDT2D<PointSource, PointTarget>::setCellLookup(CellLookup lookup) {
-  settings_.cell_lookup = lookup;
-  model_stale_ = true;  // rebuilt at the next setInputTarget() or align()
+  changeSettings([&](WeightedNDT2DSettings& s) { s.cell_lookup = lookup; }, true);
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::setMaxStep(double translation_m, double rotation_rad) {
+  changeSettings(
+      [&](WeightedNDT2DSettings& s) {
+        s.max_step_translation = translation_m;
+        s.max_step_rotation = rotation_rad;
+      },
+      false);
 }
 
 template <typename PointSource, typename PointTarget>
@@ -160,15 +155,7 @@ struct NdtDiagnostics {
 
 template <typename PointSource, typename PointTarget>
 void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSource& output, const Matrix4& guess) {
-  converged_ = false;
-  degenerate_ = false;
-  final_num_iterations_ = 0;
-  num_matched_points_ = 0;
-  final_score_ = 0;
-  final_hessian_.setZero();
-  pose_covariance_.setZero();
-  pose_covariance_.diagonal().setConstant(std::numeric_limits<double>::infinity());
-
+  result_ = WeightedNDT2DResult{};
   Pose2 x = toPose2(guess);
   if (!x.allFinite()) {
     PCL_ERROR("[radar_ndt::%s::computeTransformation] the initial guess is not finite\n", reg_name_.c_str());
@@ -176,86 +163,114 @@ void WeightedNDT2D<PointSource, PointTarget>::computeTransformation(PointCloudSo
   }
   if (model_stale_) buildTargetModel();
   prepareSource();
-
-  auto finish = [&](const Pose2& pose) {
-    final_transformation_ = transformation_ = toMatrix4<float>(pose);
-    pcl::transformPointCloud(output, output, final_transformation_);
-    if constexpr (pcl::traits::has_field<PointSource, pcl::fields::cov_xx>::value) {
-      const Eigen::Matrix2d R = Eigen::Rotation2Dd(pose.z()).toRotationMatrix();
-      for (auto& p : output) detail::rotateCovariance(p, R);
-    }
-    nr_iterations_ = final_num_iterations_;
-  };
+  result_.num_source_points = source_points_.size();
 
   if (grids_.empty() || grids_.back().cells.empty() || source_points_.empty()) {
     // Not an error of the call: the data left nothing to match (e.g. Doppler weights that agree
-    // with no point, in the source or in the target: the last cycle's weighted submap). hasConverged()
-    // and wasDegenerate() report it, as for too few matched points below, without a message a scan.
+    // with no point, in the source or in the target: the last cycle's weighted submap). The result
+    // reports it, as for too few matched points below, without a message a scan.
     PCL_DEBUG(
         "[radar_ndt::%s::computeTransformation] degenerate problem: %zu target cells, %zu weighted source "
         "points\n",
         reg_name_.c_str(), grids_.empty() ? std::size_t(0) : grids_.back().cells.size(), source_points_.size());
-    degenerate_ = true;
-    finish(x);
+    result_.status = WeightedNDT2DStatus::Degenerate;
+    finish(output, x);
     return;
   }
-
-  // Far from the optimum precision does not matter: each stage first iterates on a deterministic
-  // 1-in-kSubsample subsample of the source (every k-th point in voxel order, spread over the
-  // scan) until its steps fall under 1 cm and 1 mrad, then finishes on all points with the user's
-  // epsilons. The fine phase starts close to the optimum and needs few Newton steps.
-  constexpr std::size_t kSubsample = 4;
-  const bool coarse_phase = source_points_.size() >= 16 * kSubsample;
-  bool stage_converged = false;
   // The finest grid's full-resolution phase evaluates, with the information matrix and matched
   // count, every x it moves to (the final x may be a step below the epsilons further on), so the
-  // diagnostics below need no extra pass.
+  // diagnostics need no extra pass.
   detail::NewtonState<detail::NdtDiagnostics> final_state;
+  solveStages(x, final_state);
+  diagnose(final_state);
+  finish(output, x);
+}
+
+template <typename PointSource, typename PointTarget>
+detail::NewtonSettings WeightedNDT2D<PointSource, PointTarget>::newtonSettings(const detail::NdtGrid& grid, int phase,
+                                                                               int iterations_left) const {
+  const WeightedNDT2DSettings& s = settings_;
+  detail::NewtonSettings n;
+  // Phase 0 stops at the coarse epsilons (or the user's, when looser); phase 1 at the user's.
+  n.tolerance = {
+      phase == 0 ? std::max(s.coarse_transformation_epsilon, transformation_epsilon_) : transformation_epsilon_,
+      phase == 0 ? std::min(std::cos(s.coarse_rotation_epsilon), rotationEpsilon()) : rotationEpsilon()};
+  n.limit = {s.max_step_translation > 0 ? s.max_step_translation : 0.5 * grid.resolution, s.max_step_rotation};
+  n.stationary = {s.stationary_translation_ratio * grid.resolution, s.stationary_rotation};
+  n.max_iterations = iterations_left;
+  n.eigenvalue_floor = s.eigenvalue_floor;
+  n.armijo = s.armijo;
+  n.max_halvings = s.max_halvings;
+  n.negligible_decrease = s.negligible_decrease;
+  return n;
+}
+
+template <typename PointSource, typename PointTarget>
+template <typename State>
+void WeightedNDT2D<PointSource, PointTarget>::solveStages(Eigen::Vector3d& x, State& final_state) {
+  const std::size_t subsample = static_cast<std::size_t>(settings_.coarse_subsample);
+  const bool coarse_phase =
+      subsample > 1 && source_points_.size() >= static_cast<std::size_t>(settings_.coarse_min_points);
+  detail::NewtonRun run;
   for (const auto& grid : grids_) {
     const bool finest = &grid == &grids_.back();
-    const detail::StepLimit limit{
-        settings_.max_step_translation > 0 ? settings_.max_step_translation : 0.5 * grid.resolution,
-        settings_.max_step_rotation};
     int stage_iterations = 0;  // setMaximumIterations bounds both phases of a stage together
     for (int phase = coarse_phase ? 0 : 1; phase < 2; ++phase) {
-      const std::size_t stride = phase == 0 ? kSubsample : 1;
-      const detail::StepTolerance tolerance{
-          phase == 0 ? std::max(1e-4, transformation_epsilon_) : transformation_epsilon_,
-          phase == 0 ? std::min(std::cos(1e-3), rotationEpsilon()) : rotationEpsilon()};
+      const std::size_t stride = phase == 0 ? subsample : 1;
       const bool diagnose = finest && phase == 1;  // also compute what the diagnostics need
       auto cost = [&](const Eigen::Vector3d& at, Eigen::Vector3d* g, Eigen::Matrix3d* H, detail::NdtDiagnostics* d) {
         const bool with = diagnose && d;
         return detail::ndtCost(grid, source_points_, at, g, H, with ? &d->matched : nullptr,
                                with ? &d->information : nullptr, stride);
       };
-      detail::NewtonState<detail::NdtDiagnostics> state;
-      // A line search that fails within 5 % of a cell of the Newton model's optimum is at the
-      // optimum to the score's resolution; further away it is stuck.
-      const detail::StationaryRegion stationary{0.05 * grid.resolution, 0.01};
-      stage_converged = detail::minimizeNewton(cost, x, state, tolerance, limit, stationary, max_iterations_,
-                                               &stage_iterations, &final_num_iterations_);
+      State state;
+      run = detail::minimizeNewton(cost, x, state, newtonSettings(grid, phase, max_iterations_ - stage_iterations));
+      stage_iterations += run.iterations;
+      result_.iterations += run.iterations;
       if (diagnose) final_state = state;
     }
   }
+  switch (run.outcome) {  // the last phase's: the finest grid on all points
+    case detail::NewtonOutcome::Converged: result_.status = WeightedNDT2DStatus::Converged; break;
+    case detail::NewtonOutcome::Stuck: result_.status = WeightedNDT2DStatus::Stuck; break;
+    case detail::NewtonOutcome::IterationLimit: result_.status = WeightedNDT2DStatus::IterationLimit; break;
+    case detail::NewtonOutcome::NoDirection: result_.status = WeightedNDT2DStatus::Degenerate; break;
+  }
+}
 
-  // Final diagnostics on the finest grid, from the loop's last evaluation there.
-  final_score_ = -final_state.f;
-  final_hessian_ = final_state.H;
-  num_matched_points_ = final_state.extra.matched;
+template <typename PointSource, typename PointTarget>
+template <typename State>
+void WeightedNDT2D<PointSource, PointTarget>::diagnose(const State& final_state) {
+  result_.final_cost = final_state.f;
+  result_.hessian = final_state.H;
+  result_.num_matched_points = final_state.extra.matched;
   const Eigen::Matrix3d& info = final_state.extra.information;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(info);
   const double imax = es.eigenvalues().maxCoeff(), imin = es.eigenvalues().minCoeff();
-  if (num_matched_points_ < 3 || !(imax > 0) || !(imin > 1e-9 * imax)) {
-    degenerate_ = true;
+  if (result_.num_matched_points < static_cast<std::size_t>(settings_.min_matched_points) || !(imax > 0) ||
+      !(imin > settings_.min_information_ratio * imax)) {
+    result_.status = WeightedNDT2DStatus::Degenerate;
     PCL_DEBUG(
         "[radar_ndt::%s::computeTransformation] degenerate: %zu matched points, information eigenvalues "
         "%g..%g\n",
-        reg_name_.c_str(), num_matched_points_, imin, imax);
+        reg_name_.c_str(), result_.num_matched_points, imin, imax);
   } else {
-    pose_covariance_ = info.inverse();
+    result_.pose_covariance = info.inverse();
   }
-  converged_ = stage_converged && !degenerate_;
-  finish(x);
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::finish(PointCloudSource& output, const Eigen::Vector3d& x) {
+  result_.converged = result_.status == WeightedNDT2DStatus::Converged;
+  result_.final_transformation = toMatrix4<float>(x);
+  converged_ = result_.converged;
+  final_transformation_ = transformation_ = result_.final_transformation;
+  nr_iterations_ = result_.iterations;
+  pcl::transformPointCloud(output, output, final_transformation_);
+  if constexpr (pcl::traits::has_field<PointSource, pcl::fields::cov_xx>::value) {
+    const Eigen::Matrix2d R = Eigen::Rotation2Dd(x.z()).toRotationMatrix();
+    for (auto& p : output) detail::rotateCovariance(p, R);
+  }
 }
 
 }  // namespace radar_ndt

@@ -13,7 +13,8 @@
 #  1. the demo (`cmake --build B --target demo`): both simulated sequences and both trajectories;
 #  2. `radar_odometry --format nuscenes --scene all --method M --out` for every method;
 #  3. the two paper tables (`radar_paper_tables`, or `radar_odometry --table` in revisions before
-#     it existed) as JSON with the run-time columns removed (they are wall-clock timings);
+#     it existed) as JSON with the run-time columns removed (they are wall-clock timings: the
+#     per-cycle and per-stage milliseconds);
 #  4. `radar_sim` on the first 400 scans from pose 1000 of 2019-01-16-13-42-28 (seed 1) and
 #     `radar_odometry --format oxford --out` on that sequence for ours, PCL's NDT and PCL's ICP.
 # Exit code 0 when every file is identical, 1 otherwise (each difference is listed).
@@ -85,10 +86,15 @@ run_rev() {
   if [ -x "$bin/radar_paper_tables" ]; then tables=("$bin/radar_paper_tables"); else tables=("$bin/radar_odometry" --table); fi
   "${tables[@]}" --format nuscenes --dataroot "$data/nuscenes-mini-radar" --json -q >"$out/table_nuscenes.raw.json"
   "${tables[@]}" --format oxford --sequence "$seq" --json -q >"$out/table_oxford.raw.json"
-  for t in nuscenes oxford; do
-    python3 - "$out/table_$t.raw.json" >"$out/table_$t.json" <<'PY'
+  touch "$out/.complete"
+}
+
+# A paper table as JSON without its wall-clock timings and the sequences' paths (which differ
+# between builds), for comparison: strip_table RAW > OUT.
+strip_table() {
+  python3 - "$1" <<'PY'
 import json, sys
-timing = {"ms_per_cycle", "match_ms_median", "front_end_ms_median"}
+timing = {"ms_per_cycle", "ms_per_cycle_by_stage", "match_ms_median", "front_end_ms_median"}
 def strip(x):
     if isinstance(x, dict):
         return {k: strip(v) for k, v in x.items() if k not in timing}
@@ -96,17 +102,19 @@ def strip(x):
         return [strip(v) for v in x]
     return x
 doc = json.load(open(sys.argv[1]))
-doc.pop("sequences", None)  # paths of the sequence directories, which differ between builds
+doc.pop("sequences", None)
 print(json.dumps(strip(doc), indent=1, sort_keys=True))
 PY
-  done
-  touch "$out/.complete"
 }
 
 base=$(export_rev "$1")
 head=$(export_rev "${2:-HEAD}")
 run_rev "$base"
 run_rev "$head"
+
+for id in "$base" "$head"; do
+  for t in nuscenes oxford; do strip_table "$work/out-$id/table_$t.raw.json" >"$work/out-$id/table_$t.json"; done
+done
 
 status=0
 compared=0

@@ -21,6 +21,8 @@
 #include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/frontend/probabilistic_submap.h"
 #include "radar_ndt/frontend/radar_cycle.h"
+#include "radar_ndt/io/oxford_ground_truth.h"
+#include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/odometry/matcher.h"
 #include "radar_ndt/pipeline/nuscenes_sequence.h"

@@ -13,6 +13,7 @@
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/io_error.h"
 #include "read_file.h"
+#include "text_lines.h"
 
 namespace radar_ndt {
 using detail::readWholeFile;
@@ -42,26 +43,16 @@ std::vector<double> parseNumbers(const std::string& path, std::size_t line_no, c
   return values;
 }
 
+/// Calls fn(line_no, numbers) for each line that is neither blank nor a '#' comment; fn returns
+/// false to stop.
 template <typename Fn>
 void forEachDataLine(const std::string& path, const std::string& text, Fn&& fn) {
-  std::size_t line_no = 0;
-  std::size_t pos = 0;
-  while (pos <= text.size()) {
-    std::size_t eol = text.find('\n', pos);
-    if (eol == std::string::npos) eol = text.size();
-    std::string line = text.substr(pos, eol - pos);
-    ++line_no;
-    pos = eol + 1;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+  detail::forEachLine(text, [&](std::size_t line_no, const std::string& line) {
     const auto first = std::find_if_not(line.begin(), line.end(), [](unsigned char c) { return std::isspace(c); });
-    if (first == line.end() || *first == '#') {
-      if (eol == text.size()) break;
-      continue;
-    }
+    if (first == line.end() || *first == '#') return true;
     if (line.find('\0') != std::string::npos) throw IoError(path, line_no, "binary data in a text file");
-    if (!fn(line_no, parseNumbers(path, line_no, line))) break;  // fn returns false to stop
-    if (eol == text.size()) break;
-  }
+    return fn(line_no, parseNumbers(path, line_no, line));
+  });
 }
 
 void checkRotation(const std::string& path, std::size_t line_no, const Eigen::Matrix3d& R) {
@@ -127,6 +118,27 @@ Trajectory parseTum(const std::string& path, const std::string& text) {
 }
 
 }  // namespace
+
+Eigen::Isometry3d interpolate(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double u) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const Eigen::Quaterniond qa(a.linear()), qb(b.linear());
+  T.linear() = qa.slerp(u, qb).toRotationMatrix();
+  T.translation() = (1.0 - u) * a.translation() + u * b.translation();
+  return T;
+}
+
+bool Trajectory::poseAt(double t, Eigen::Isometry3d* pose) const {
+  if (stamps.empty() || stamps.size() != poses.size()) return false;
+  if (t < stamps.front() - 1e-6 || t > stamps.back() + 1e-6) return false;
+  // k: the last stamp at or before t (0 before the first).
+  const auto after = std::upper_bound(stamps.begin(), stamps.end(), t);
+  const std::size_t k = after == stamps.begin() ? 0 : static_cast<std::size_t>(after - stamps.begin()) - 1;
+  if (k + 1 < stamps.size() && t > stamps[k])
+    *pose = interpolate(poses[k], poses[k + 1], (t - stamps[k]) / (stamps[k + 1] - stamps[k]));
+  else
+    *pose = poses[k];
+  return true;
+}
 
 TrajectoryFormat parseTrajectoryFormat(const std::string& name) {
   std::string n = name;

@@ -3,7 +3,7 @@
 #include <cstdint>
 
 #include "fuzz_support.h"
-#include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/io/oxford_ground_truth.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using radar_ndt::fuzz::finding;

@@ -9,7 +9,9 @@
 #include <zlib.h>
 
 #include "fuzz_support.h"
+#include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/io/radiate_scan.h"
 #include "radar_ndt/se2.h"
 
 namespace {

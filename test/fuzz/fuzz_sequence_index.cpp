@@ -5,7 +5,8 @@
 #include <vector>
 
 #include "fuzz_support.h"
-#include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/io/oxford_scan.h"
+#include "radar_ndt/io/radiate_scan.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using radar_ndt::fuzz::finding;

@@ -12,6 +12,8 @@
 #include "radar_ndt/evaluation/metrics.h"
 #include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/evaluation/top_view_map.h"
+#include "radar_ndt/io/oxford_scan.h"
+#include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/odometry/scanning_odometry.h"
 #include "radar_ndt/pipeline/scanning_run.h"
 #include "radar_ndt/sim/radar_sim.h"

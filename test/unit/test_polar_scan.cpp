@@ -8,7 +8,11 @@
 #include <zlib.h>
 
 #include "radar_ndt/io/io_error.h"
+#include "radar_ndt/io/oxford_ground_truth.h"
+#include "radar_ndt/io/oxford_scan.h"
+#include "radar_ndt/io/png_image.h"
 #include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/io/radiate_scan.h"
 #include "radar_ndt/sim/radar_sim.h"
 #include "test_support.h"
 

@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include "radar_ndt/frontend/power_threshold.h"
+#include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/io/radiate_scan.h"
 #include "radar_ndt/se2.h"
 
 using namespace radar_ndt;

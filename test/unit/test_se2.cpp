@@ -48,3 +48,15 @@ TEST(Se2, IntegrateVelocityIsTheArc) {
   EXPECT_NEAR(straight.x(), 1.5, 1e-12);
   EXPECT_NEAR(straight.y(), -0.5, 1e-12);
 }
+
+TEST(Se2, InterpolateIsLinearInPositionAndTakesTheShorterArcInHeading) {
+  const Pose2 a(1.0, 2.0, 0.1), b(3.0, -2.0, 0.5);
+  EXPECT_EQ(interpolate(a, b, 0.0), a);
+  EXPECT_TRUE(interpolate(a, b, 1.0).isApprox(b, 1e-15));
+  EXPECT_TRUE(interpolate(a, b, 0.25).isApprox(Pose2(1.5, 1.0, 0.2), 1e-15));
+  // Across ±π: from 170° to −170° through 180°, not back through 0.
+  const Pose2 c(0, 0, 170.0 * kPi / 180.0), d(0, 0, -170.0 * kPi / 180.0);
+  EXPECT_NEAR(std::abs(interpolate(c, d, 0.5).z()), kPi, 1e-12);
+  EXPECT_NEAR(interpolate(c, d, 0.25).z(), 175.0 * kPi / 180.0, 1e-12);
+  EXPECT_NEAR(interpolate(c, d, 0.75).z(), -175.0 * kPi / 180.0, 1e-12);
+}

@@ -139,3 +139,33 @@ TEST(TrajectoryIo, ParsesFormatNames) {
   EXPECT_EQ(parseTrajectoryFormat("tum"), TrajectoryFormat::Tum);
   EXPECT_THROW(parseTrajectoryFormat("csv"), std::invalid_argument);
 }
+
+// The one lookup of a trajectory at a time: the pose itself at its stamp, the interpolation between
+// stamps (the planar interpolation of se2.h, here through 3D slerp), and nothing outside the span
+// beyond a microsecond.
+TEST(TrajectoryIo, PoseAtInterpolatesBetweenStampsAndRefusesOutsideThem) {
+  Trajectory t;
+  t.stamps = {10.0, 11.0, 13.0};
+  const std::vector<Pose2> planar{Pose2(0, 0, 0.0), Pose2(2.0, 0.0, 0.4), Pose2(2.0, 4.0, -3.0)};
+  for (const Pose2& p : planar) t.poses.push_back(toIsometry3(p));
+  Eigen::Isometry3d out;
+  ASSERT_TRUE(t.poseAt(11.0, &out));
+  EXPECT_TRUE(out.isApprox(t.poses[1], 0.0)) << "at a stamp: that pose exactly";
+  ASSERT_TRUE(t.poseAt(10.25, &out));
+  EXPECT_TRUE(toPose2(out).isApprox(interpolate(planar[0], planar[1], 0.25), 1e-12));
+  ASSERT_TRUE(t.poseAt(12.5, &out));  // 0.4 to −3.0 the short way round, through ±π
+  EXPECT_TRUE(toPose2(out).isApprox(interpolate(planar[1], planar[2], 0.75), 1e-12)) << toPose2(out).transpose();
+  ASSERT_TRUE(t.poseAt(13.0 + 5e-7, &out));
+  EXPECT_TRUE(out.isApprox(t.poses[2], 0.0)) << "within a microsecond of the end: the end";
+  EXPECT_FALSE(t.poseAt(9.99, &out));
+  EXPECT_FALSE(t.poseAt(13.01, &out));
+  Trajectory unstamped;
+  unstamped.poses = t.poses;
+  EXPECT_FALSE(unstamped.poseAt(11.0, &out));
+  // In 3D: the rotation by slerp, half way between a roll of 0 and 0.2 rad.
+  Trajectory tilted;
+  tilted.stamps = {0.0, 2.0};
+  tilted.poses = {Eigen::Isometry3d::Identity(), Eigen::Isometry3d(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()))};
+  ASSERT_TRUE(tilted.poseAt(1.0, &out));
+  EXPECT_NEAR(Eigen::AngleAxisd(out.linear()).angle(), 0.1, 1e-12);
+}

@@ -16,6 +16,9 @@
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/nuscenes_writer.h"
+#include "radar_ndt/io/oxford_ground_truth.h"
+#include "radar_ndt/io/oxford_scan.h"
+#include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/sim/radar_sim.h"
 #include "sim_random.h"
 

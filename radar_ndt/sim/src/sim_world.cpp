@@ -73,11 +73,7 @@ std::size_t SimTrajectory::segment(double t) const {
 Pose2 SimTrajectory::at(double t) const {
   t = std::min(std::max(t, stamps_.front()), stamps_.back());
   const std::size_t k = segment(t);
-  const double u = (t - stamps_[k]) / (stamps_[k + 1] - stamps_[k]);
-  const Pose2& a = poses_[k];
-  const Pose2& b = poses_[k + 1];
-  return Pose2(a.x() + u * (b.x() - a.x()), a.y() + u * (b.y() - a.y()),
-               normalizeAngle(a.z() + u * normalizeAngle(b.z() - a.z())));
+  return interpolate(poses_[k], poses_[k + 1], (t - stamps_[k]) / (stamps_[k + 1] - stamps_[k]));
 }
 
 Eigen::Vector3d SimTrajectory::velocity(double t) const {

@@ -10,14 +10,6 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / kPi;
 
-Eigen::Isometry3d interpolate(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double t) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  const Eigen::Quaterniond qa(a.linear()), qb(b.linear());
-  T.linear() = qa.slerp(t, qb).toRotationMatrix();
-  T.translation() = (1.0 - t) * a.translation() + t * b.translation();
-  return T;
-}
-
 /// E = (est_i⁻¹ est_j)⁻¹ (gt_i⁻¹ gt_j)
 Eigen::Isometry3d relativeError(const PosePairs& p, std::size_t i, std::size_t j) {
   const Eigen::Isometry3d d_gt = p.gt[i].inverse() * p.gt[j];
@@ -49,16 +41,10 @@ PosePairs associate(const Trajectory& gt, const Trajectory& est) {
     p.gt = gt.poses;
     p.est = est.poses;
   } else {
-    std::size_t k = 0;  // gt.stamps[k] <= t < gt.stamps[k + 1]
     for (std::size_t i = 0; i < est.size(); ++i) {
       const double t = est.stamps[i];
-      if (t < gt.stamps.front() - 1e-6 || t > gt.stamps.back() + 1e-6) continue;
-      while (k + 1 < gt.size() && gt.stamps[k + 1] <= t) ++k;
-      Eigen::Isometry3d g = gt.poses[k];
-      if (k + 1 < gt.size() && t > gt.stamps[k]) {
-        const double a = (t - gt.stamps[k]) / (gt.stamps[k + 1] - gt.stamps[k]);
-        g = interpolate(gt.poses[k], gt.poses[k + 1], a);
-      }
+      Eigen::Isometry3d g;
+      if (!gt.poseAt(t, &g)) continue;  // outside the ground truth's span
       p.gt.push_back(g);
       p.est.push_back(est.poses[i]);
       p.stamps.push_back(t);

@@ -1,11 +1,10 @@
 #include "radar_ndt/evaluation/top_view_map.h"
+#include "radar_ndt/io/png_image.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-
-#include "radar_ndt/io/polar_scan.h"
 
 namespace radar_ndt {
 

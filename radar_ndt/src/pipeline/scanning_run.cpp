@@ -52,24 +52,6 @@ PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold&
 }
 }  // namespace detail
 
-namespace {
-/// The ground-truth pose at time t (s), linear between its neighbours; false outside its span.
-bool poseAt(const Trajectory& gt, double t, Pose2* out) {
-  if (gt.stamps.empty() || t < gt.stamps.front() - 1e-6 || t > gt.stamps.back() + 1e-6) return false;
-  const auto it = std::lower_bound(gt.stamps.begin(), gt.stamps.end(), t - 1e-6);
-  const std::size_t i = static_cast<std::size_t>(it - gt.stamps.begin());
-  if (i == 0 || std::abs(gt.stamps[i] - t) < 1e-6) {
-    *out = toPose2(gt.poses[i]);
-    return true;
-  }
-  const Pose2 a = toPose2(gt.poses[i - 1]), b = toPose2(gt.poses[i]);
-  const double u = (t - gt.stamps[i - 1]) / (gt.stamps[i] - gt.stamps[i - 1]);
-  const Pose2 d = between(a, b);
-  *out = compose(a, Pose2(u * d.x(), u * d.y(), u * d.z()));
-  return true;
-}
-}  // namespace
-
 void ScanningRunOptions::validate() const {
   if (matcher.method == Method::Doppler || matcher.method == Method::RappNdt)
     throw std::invalid_argument(std::string("method ") + toString(matcher.method) +
@@ -162,8 +144,9 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
   // Ground truth at the estimate's stamps, re-based on the first one.
   const Trajectory& gt = sequence.groundTruth();
   if (!gt.empty() && !result.estimate.empty()) {
-    Pose2 origin;
-    if (poseAt(gt, result.estimate.stamps.front(), &origin)) {
+    Eigen::Isometry3d origin_3d;
+    if (gt.poseAt(result.estimate.stamps.front(), &origin_3d)) {
+      const Pose2 origin = toPose2(origin_3d);
       for (std::size_t i = 0; i < gt.size(); ++i) {
         if (gt.stamps[i] + 1e-6 < result.estimate.stamps.front()) continue;
         if (gt.stamps[i] - 1e-6 > result.estimate.stamps.back()) break;

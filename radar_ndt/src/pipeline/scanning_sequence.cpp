@@ -1,4 +1,8 @@
 #include "radar_ndt/pipeline/scanning_sequence.h"
+#include "radar_ndt/io/oxford_ground_truth.h"
+#include "radar_ndt/io/oxford_scan.h"
+#include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/io/radiate_scan.h"
 
 #include <algorithm>
 #include <cmath>

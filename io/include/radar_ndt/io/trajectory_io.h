@@ -19,7 +19,18 @@ struct Trajectory {
   std::size_t size() const { return poses.size(); }
   bool empty() const { return poses.empty(); }
   bool hasStamps() const { return !stamps.empty(); }
+
+  /// The pose at time `t` (s): between the stamps around it, position along the straight line and
+  /// rotation along the shorter arc (slerp; for planar poses the same as radar_ndt::interpolate);
+  /// the pose itself at its own stamp. False without stamps, or when t lies outside them by more
+  /// than 1 µs (then the nearest end's pose is used within that microsecond). The one lookup of a
+  /// trajectory at a time: evaluation associates poses with it, the scanning run re-bases its
+  /// ground truth with it.
+  bool poseAt(double t, Eigen::Isometry3d* pose) const;
 };
+
+/// The pose a fraction `u` of the way from `a` to `b`: translation linear, rotation by slerp.
+Eigen::Isometry3d interpolate(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double u);
 
 enum class TrajectoryFormat { Auto, Kitti, Tum };
 

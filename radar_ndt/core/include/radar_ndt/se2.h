@@ -75,6 +75,15 @@ inline Pose2 between(const Pose2& a, const Pose2& b) {
   return compose(inverse(a), b);
 }
 
+/// The pose a fraction `u` of the way from `a` to `b`: position along the straight line, heading
+/// along the shorter arc (u = 0: a, u = 1: b). The one interpolation of planar poses (the
+/// simulator's trajectories); a Trajectory's poses at a time are Trajectory::poseAt's, the same
+/// interpolation in 3D.
+inline Pose2 interpolate(const Pose2& a, const Pose2& b, double u) {
+  return Pose2(a.x() + u * (b.x() - a.x()), a.y() + u * (b.y() - a.y()),
+               normalizeAngle(a.z() + u * normalizeAngle(b.z() - a.z())));
+}
+
 /// Planar 3D isometry (z = 0, rotation about z) from an SE(2) pose.
 inline Eigen::Isometry3d toIsometry3(const Pose2& p) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

@@ -12,7 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/io/radiate_scan.h"
 #include "radar_ndt/io/trajectory_io.h"
 
 namespace radar_ndt {

@@ -1,0 +1,25 @@
+#pragma once
+// 8-bit PNG images through libpng: the decoder the polar-scan readers share, and an atomic writer.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace radar_ndt {
+
+/// Decodes an 8-bit grayscale PNG into row-major pixels, the samples exactly as stored: gamma and
+/// colour-space chunks are ignored (a scan is data, not a picture), alpha is dropped, interlacing
+/// is undone, and a file stored as RGB, RGBA or through a palette is taken when every pixel is grey
+/// (as tools that write every image in colour leave it). Real colour and other sample depths than 8
+/// bits are an IoError naming the file.
+struct GrayImage {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> pixels;
+};
+GrayImage readGrayPng(const std::string& path);
+/// Writes an 8-bit grayscale (channels 1) or RGB (channels 3) PNG atomically.
+void writePng(const std::string& path, int width, int height, int channels, const std::uint8_t* pixels,
+              int compression_level = 6);
+
+}  // namespace radar_ndt

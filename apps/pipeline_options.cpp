@@ -162,8 +162,7 @@ ScanningRunOptions scanningOptions(const po::variables_map& vm) {
   if (has("compensation-tolerance")) od.compensation.tolerance = vm["compensation-tolerance"].as<double>();
   od.shift_source_weights = !vm["no-source-shift"].as<bool>();
   if (has("keyframe-distance")) od.keyframes.distance = vm["keyframe-distance"].as<double>();
-  if (vm["no-gate"].as<bool>())
-    od.gate.max_acceleration = od.gate.max_yaw_acceleration = std::numeric_limits<double>::infinity();
+  od.gate.enabled = !vm["no-gate"].as<bool>();
   if (has("threshold")) o.front_end.threshold = static_cast<float>(vm["threshold"].as<double>());
   if (has("points")) {
     const std::string points = vm["points"].as<std::string>();

@@ -33,6 +33,8 @@ struct Outputs {
   std::string out, out_format, steps, plot, map, metric;
   bool eval = false, json = false, progress = false;
   bool many = false;  ///< several scenes or sequences: file names get the run's name inserted
+  /// The failure lines of runs mostly not matched (failureText), printed last; the exit code is 1.
+  std::shared_ptr<std::vector<std::string>> failures = std::make_shared<std::vector<std::string>>();
   /// `path` for run `name`: as given for one run, else NAME inserted before the extension.
   std::string fileFor(const std::string& path, const std::string& name) const {
     if (!many) return path;
@@ -59,6 +61,8 @@ json finish(const Run& r, const std::string& name, const Outputs& o, std::option
     std::cout << summaryText(r);
     if (report) std::cout << formatTable(*report);
   }
+  const std::string failure = failureText(r);
+  if (!failure.empty()) o.failures->push_back(failure);
   return json::parse(summaryJson(r, report ? &*report : nullptr));
 }
 
@@ -73,6 +77,13 @@ void printJson(const std::vector<json>& runs, const std::vector<EvaluationReport
   // Each error averaged over the runs where it is defined (null: none), counts summed.
   if (!reports.empty()) mean["metrics"] = json::parse(metricsJson(meanReport(reports)));
   std::cout << json{{list, runs}, {"mean", mean}}.dump(2) << std::endl;
+}
+
+/// The failure lines, last (stderr with --json, which keeps stdout JSON): exit code 1 when any.
+int reportFailures(const Outputs& o) {
+  std::cout << std::flush;
+  for (const auto& f : *o.failures) (o.json ? std::cerr : std::cout) << f;
+  return o.failures->empty() ? 0 : 1;
 }
 
 int runAutomotive(const po::variables_map& vm, const Outputs& base) {
@@ -96,7 +107,7 @@ int runAutomotive(const po::variables_map& vm, const Outputs& base) {
     std::printf("mean over %zu scenes:\n", reports.size());
     std::cout << formatTable(meanReport(reports));
   }
-  return 0;
+  return reportFailures(o);
 }
 
 int runScanning(const po::variables_map& vm, const Outputs& base) {
@@ -129,7 +140,7 @@ int runScanning(const po::variables_map& vm, const Outputs& base) {
     if (report) reports.push_back(*report);
   }
   if (o.json) printJson(runs, reports, "sequences");
-  return 0;
+  return reportFailures(o);
 }
 
 }  // namespace
@@ -174,7 +185,9 @@ int main(int argc, char** argv) {
       "oxford|radiate: one pose per scan, the vehicle at the scan's timestamp (the first azimuth's); each scan\n"
       "motion-compensated and matched to the last keyframe from a constant-velocity guess, failures retried with\n"
       "the grid enlarged, then with s halved. Unreadable scans are reported and bridged with the motion model;\n"
-      "bad index lines are reported and left out. Every option: docs/apps.md.";
+      "bad index lines are reported and left out.\n"
+      "A run whose steps were mostly not matched (too few points, fallbacks, unreadable files) says so in its\n"
+      "last line and exits with code 1. Every option: docs/apps.md.";
   po::variables_map vm;
   const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
   if (rc >= 0) return rc;

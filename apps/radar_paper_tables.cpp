@@ -335,12 +335,13 @@ int runNoiseCalibration(const AutomotiveRunOptions& options, const NuScenesDatas
      << "|---|---|---|---|---|---|---|---|\n";
   for (std::size_t i = 0; i < per_scene.size(); ++i) {
     const MotionNoiseCalibration c = calibrateMotionNoise(all_but(i));
-    const MotionNees nees = motionNees(per_scene[i], c.applyTo(options.odometry.fusion));
+    const MatchCalibration which = matchCalibrationOf(options.matcher.method);
+    const MotionNees nees = motionNees(per_scene[i], c.applyTo(options.odometry.fusion, which), which);
     // The scene run again with the covariances calibrated without it, against the defaults' run.
     const EvaluationReport before =
         evaluate(associate(runs[i].ground_truth, runs[i].estimate), {Metric::OneMeter, Metric::Ate});
     AutomotiveRunOptions o = options;
-    o.odometry.fusion = c.applyTo(options.odometry.fusion);
+    o.odometry.fusion = c.applyTo(options.odometry.fusion, which);
     const AutomotiveRunResult rerun = runAutomotiveOdometry(dataset, *scenes[i], o);
     const EvaluationReport after =
         evaluate(associate(rerun.ground_truth, rerun.estimate), {Metric::OneMeter, Metric::Ate});

@@ -53,6 +53,8 @@ void expectCountsAddUp(const std::vector<OdometryStep>& steps, const OdometryCou
     bridged += s.status == StepStatus::Bridged;
   }
   EXPECT_EQ(first, 1u);
+  EXPECT_EQ(c.first, first);
+  EXPECT_EQ(c.first + c.matched + c.retried + c.fallbacks + c.dead_reckoned + c.skipped + c.bridged, c.cycles);
   EXPECT_EQ(c.matched, matched);
   EXPECT_EQ(c.retried, retried);
   EXPECT_EQ(c.fallbacks, fallbacks);

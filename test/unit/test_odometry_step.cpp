@@ -51,3 +51,55 @@ TEST(StepLog, SkipsStepsThatDoNotAdvanceAndBridgesUnreadableOnes) {
   EXPECT_DOUBLE_EQ(t.stamps[2], 1.75);
   EXPECT_EQ(toString(StepStatus::DeadReckoned), std::string("dead-reckoned"));
 }
+
+// The counters come from the steps, in one place: each recorded step counts once by its status,
+// so the statuses add up to the steps; the attempts' outcomes, the slow grid, the halved shift and
+// a reused ego-velocity come from the step's own fields.
+TEST(StepLog, CountersAreDerivedFromTheStepsAndAddUp) {
+  StepLog log;
+  auto record = [&](std::int64_t t, StepStatus status, auto&& set) {
+    OdometryStep s = log.begin(t);
+    s.status = status;
+    set(s);
+    return log.add(s);
+  };
+  auto none = [](OdometryStep&) {};
+  record(0, StepStatus::First, none);
+  record(100, StepStatus::Matched, [](OdometryStep& s) { s.slow = true; });
+  record(200, StepStatus::Retried, [](OdometryStep& s) {
+    s.attempts_not_converged = 2;
+    s.shift_halved = true;
+  });
+  record(300, StepStatus::Fallback, [](OdometryStep& s) {
+    s.attempts_rejected = 3;
+    s.attempts_poor_fit = 1;
+    s.slow = true;  // a slow fallback is not a slow match
+  });
+  record(400, StepStatus::DeadReckoned, [](OdometryStep& s) { s.too_few_points = true; });
+  record(500, StepStatus::DeadReckoned, [](OdometryStep& s) { s.velocity_valid = false; });  // no matcher
+  log.bridge(600, ConstantVelocityModel());
+  log.addSkipped(log.begin(600), log.steps().back());
+  const OdometryCounters& c = log.counters();
+  EXPECT_EQ(c.cycles, 8u);
+  EXPECT_EQ(c.first + c.matched + c.retried + c.fallbacks + c.dead_reckoned + c.bridged + c.skipped, c.cycles);
+  EXPECT_EQ(c.first, 1u);
+  EXPECT_EQ(c.matched, 1u);
+  EXPECT_EQ(c.retried, 1u);
+  EXPECT_EQ(c.fallbacks, 1u);
+  EXPECT_EQ(c.dead_reckoned, 2u);
+  EXPECT_EQ(c.too_few_points, 1u);
+  EXPECT_EQ(c.bridged, 1u);
+  EXPECT_EQ(c.skipped, 1u);
+  EXPECT_EQ(c.slow, 1u);
+  EXPECT_EQ(c.shift_halved, 1u);
+  EXPECT_EQ(c.not_converged, 2u);
+  EXPECT_EQ(c.rejected, 3u);
+  EXPECT_EQ(c.poor_fit, 1u);
+  EXPECT_EQ(c.stale_velocity, 1u);
+  // Unmatched: the fallback, the scan with too few points, the bridged one (3 of 6 matchable steps).
+  EXPECT_EQ(c.unmatched(), 3u);
+  EXPECT_EQ(c.matchable(), 6u);
+  EXPECT_FALSE(c.mostlyUnmatched()) << "half is not most";
+  record(700, StepStatus::DeadReckoned, [](OdometryStep& s) { s.too_few_points = true; });
+  EXPECT_TRUE(log.counters().mostlyUnmatched()) << "4 of 7";
+}

@@ -41,14 +41,19 @@ std::vector<MotionNoiseSample> motionNoiseSamples(const AutomotiveRunResult& run
   return out;
 }
 
-MotionFusionOptions MotionNoiseCalibration::applyTo(MotionFusionOptions o) const {
+MotionFusionOptions MotionNoiseCalibration::applyTo(MotionFusionOptions o, MatchCalibration which) const {
   if (doppler_samples > 0) {
     o.doppler_sigma_x = doppler_sigma_x;
     o.doppler_sigma_y = doppler_sigma_y;
     o.doppler_sigma_yaw = doppler_sigma_yaw;
   }
-  if (reported_covariances > 0) o.match_covariance_scale = match_covariance_scale;
-  if (match_samples > 0) {
+  if (reported_covariances > 0)
+    (which == MatchCalibration::Rapp ? o.rapp_covariance_scale : o.match_covariance_scale) = match_covariance_scale;
+  if (match_samples > 0 && which == MatchCalibration::PclIcp) {
+    o.icp_sigma_x = match_sigma_x;
+    o.icp_sigma_y = match_sigma_y;
+    o.icp_sigma_yaw = match_sigma_yaw;
+  } else if (match_samples > 0) {
     o.match_sigma_x = match_sigma_x;
     o.match_sigma_y = match_sigma_y;
     o.match_sigma_yaw = match_sigma_yaw;
@@ -90,7 +95,8 @@ MotionNoiseCalibration calibrateMotionNoise(const std::vector<MotionNoiseSample>
   return c;
 }
 
-MotionNees motionNees(const std::vector<MotionNoiseSample>& samples, const MotionFusionOptions& options) {
+MotionNees motionNees(const std::vector<MotionNoiseSample>& samples, const MotionFusionOptions& options,
+                      MatchCalibration which) {
   const MotionFusion fusion(options);
   MotionNees r;
   double d = 0, m = 0;
@@ -100,7 +106,7 @@ MotionNees motionNees(const std::vector<MotionNoiseSample>& samples, const Motio
     ++r.doppler_samples;
     if (!s.matched) continue;
     const Pose2 em = error(s.match, s.truth);
-    const Eigen::Matrix3d C = fusion.matchCovariance(&s.match_covariance);  // NaN or degenerate: the fixed σ's
+    const Eigen::Matrix3d C = fusion.matchCovariance(&s.match_covariance, which);  // NaN or degenerate: the σ's
     m += em.dot(C.inverse() * em);
     ++r.match_samples;
   }

@@ -12,17 +12,6 @@ using nlohmann::json;
 
 namespace {
 
-/// The step counts both pipelines report.
-void addStepCounts(json& j, const OdometryCounters& c) {
-  j["matched"] = c.matched;
-  j["retried"] = c.retried;
-  j["fallbacks"] = c.fallbacks;
-  j["fallback_rate"] = c.cycles ? static_cast<double>(c.fallbacks) / static_cast<double>(c.cycles) : 0.0;
-  j["dead_reckoned"] = c.dead_reckoned;
-  j["skipped"] = c.skipped;
-  j["bridged"] = c.bridged;
-}
-
 double percent(std::size_t part, std::size_t whole) {
   return whole ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : 0.0;
 }
@@ -37,7 +26,49 @@ std::string format(const char* fmt, ...) {
   return buffer;
 }
 
+/// The step counts both pipelines report.
+void addStepCounts(json& j, const OdometryCounters& c) {
+  j["first"] = c.first;
+  j["matched"] = c.matched;
+  j["retried"] = c.retried;
+  j["fallbacks"] = c.fallbacks;
+  j["fallback_rate"] = c.cycles ? static_cast<double>(c.fallbacks) / static_cast<double>(c.cycles) : 0.0;
+  j["dead_reckoned"] = c.dead_reckoned;
+  j["too_few_points"] = c.too_few_points;
+  j["skipped"] = c.skipped;
+  j["bridged"] = c.bridged;
+  j["unmatched"] = c.unmatched();
+  j["mostly_unmatched"] = c.mostlyUnmatched();
+}
+
+/// Every step counted once: first, matched, retried, fallbacks, dead-reckoned, bridged, skipped
+/// (they add up to the steps).
+std::string stepCounts(const OdometryCounters& c) {
+  return format(
+      "first %zu, matched %zu, retried %zu, fallbacks %zu (%.1f %%), dead-reckoned %zu (%zu for too few points), "
+      "bridged %zu, skipped %zu",
+      c.first, c.matched, c.retried, c.fallbacks, percent(c.fallbacks, c.cycles), c.dead_reckoned, c.too_few_points,
+      c.bridged, c.skipped);
+}
+
+/// The verdict on a run whose steps were mostly not matched; "" for the others.
+std::string failureLine(const std::string& name, const OdometryCounters& c, const char* unit, const char* advice) {
+  if (!c.mostlyUnmatched()) return "";
+  return format(
+      "%s: FAILED: %zu of the %zu %s after the first were not matched (%zu too few points, %zu fallbacks, %zu "
+      "unreadable): the trajectory is mostly dead reckoning, not odometry; %s\n",
+      name.c_str(), c.unmatched(), c.matchable(), unit, c.too_few_points, c.fallbacks, c.bridged, advice);
+}
+
 }  // namespace
+
+std::string failureText(const AutomotiveRunResult& r) {
+  return failureLine(r.scene, r.counters, "cycles", "check the radars' data and the front-end's filters");
+}
+std::string failureText(const ScanningRunResult& r) {
+  return failureLine(r.sequence, r.counters, "scans",
+                     "a front-end that leaves too few points (--threshold for another sensor?) or no usable scans");
+}
 
 double realTimeFactor(const AutomotiveRunResult& r) {
   return r.median_total_ms > 0 ? 1000.0 * r.period_s / r.median_total_ms : 0.0;
@@ -136,10 +167,10 @@ std::string summaryJson(const ScanningRunResult& r, const EvaluationReport* metr
 std::string summaryText(const AutomotiveRunResult& r) {
   const auto& c = r.counters;
   std::string s = format(
-      "%s: %zu cycles (reference %s, %.1f Hz), matched %zu, retried %zu, fallbacks %zu (%.1f %%), %zu problems "
-      "(unreadable sweeps, silent radars)\n",
-      r.scene.c_str(), c.cycles, r.reference_channel.c_str(), r.period_s > 0 ? 1.0 / r.period_s : 0.0, c.matched,
-      c.retried, c.fallbacks, percent(c.fallbacks, c.cycles), r.problems.size());
+      "%s: %zu cycles (reference %s, %.1f Hz): %s; %zu problems (unreadable sweeps, silent "
+      "radars, cycles with too few points)\n",
+      r.scene.c_str(), c.cycles, r.reference_channel.c_str(), r.period_s > 0 ? 1.0 / r.period_s : 0.0,
+      stepCounts(c).c_str(), r.problems.size());
   s += format(
       "  %zu detections, %.1f %% removed as moving; Doppler fit residual %.3f m/s (median), %zu cycles without a valid "
       "ego-velocity\n",
@@ -158,11 +189,10 @@ std::string summaryText(const AutomotiveRunResult& r) {
 std::string summaryText(const ScanningRunResult& r) {
   const auto& c = r.counters;
   std::string s = format(
-      "%s: %zu scans (%s, %.2f Hz), %.0f points/scan; matched %zu, retried %zu, fallbacks %zu (%.1f %%), "
-      "s halved %zu, slow grid %zu, bridged %zu, skipped %zu; %zu problems\n",
+      "%s: %zu scans (%s, %.2f Hz), %.0f points/scan: %s; s halved %zu, slow grid %zu; %zu "
+      "problems\n",
       r.sequence.c_str(), c.cycles, toString(r.format), r.period_s > 0 ? 1.0 / r.period_s : 0.0, r.median_points,
-      c.matched, c.retried, c.fallbacks, percent(c.fallbacks, c.cycles), c.shift_halved, c.slow, c.bridged, c.skipped,
-      r.problems.size());
+      stepCounts(c).c_str(), c.shift_halved, c.slow, r.problems.size());
   s += format(
       "  ms per scan (median, one core): decode %.2f, front-end %.2f, match %.2f, total %.2f; end to end %.1f scans/s "
       "(%s), %.0fx real time\n",

@@ -51,15 +51,20 @@ AutomotiveOdometry::AutomotiveOdometry(const AutomotiveOdometryOptions& options,
       map_(options.map_cycles),
       fusion_(options.fusion) {
   options_.validate();
-  // Every cycle's first attempt runs at the nominal grid, the first one too: a caller's matcher
-  // may come with its own (PCL's ICP: an unbounded correspondence distance).
+  // The odometry owns the grid: every cycle's first attempt runs at the nominal one, the first
+  // cycle's too, whatever the matcher was built with (PCL's ICP: an unbounded correspondence
+  // distance).
   if (matcher_) matcher_.setGrid(options_.grid);
+  // The fusion trusts a match as calibrated for the matcher that makes it.
+  if (matcher_.ours())
+    calibration_ = options_.doppler_weights ? MatchCalibration::Rapp : MatchCalibration::Ours;
+  else
+    calibration_ = matcher_.gridIsResolution() ? MatchCalibration::PclNdt : MatchCalibration::PclIcp;
 }
 
 EgoVelocity AutomotiveOdometry::egoVelocityOf(const ProcessedCycle& cycle) {
   EgoVelocity ego = cycle.ego;
-  if (!ego.valid) {
-    ++log_.counters().stale_velocity;
+  if (!ego.valid) {  // counted from the step's velocity_valid
     if (have_velocity_) {
       ego = last_velocity_;
     } else {
@@ -84,56 +89,72 @@ const OdometryStep& AutomotiveOdometry::add(const ProcessedCycle& cycle) {
   step.velocity_valid = cycle.ego.valid;
   const EgoVelocity ego = egoVelocityOf(cycle);
   const double dt = prev ? 1e-6 * static_cast<double>(cycle.timestamp_us - prev->timestamp_us) : 0.0;
-  const bool to_map = options_.mode == AutomotiveMatchMode::CycleToMap;
+  const pcl::PointCloud<PointRadar>::Ptr submap = addToSubmap(cycle, ego, dt, step);
+  if (!prev) return addFirstCycle(cycle, ego, submap, step);
+  const MotionEstimate prior = dopplerPrior(dt, step);
+  const MotionEstimate estimate = matchAndFuse(cycle, submap, prior, dt, step);
+  step.yaw_rate_bias = fusion_.yawRateBias();
+  step.motion = estimate.motion;
+  step.pose = compose(prev->pose, estimate.motion);
+  motion_model_.update(estimate.motion, dt);
+  if (options_.mode == AutomotiveMatchMode::CycleToMap) map_.advance(estimate.motion, estimate.covariance);
+  keepForNextMatch(cycle, estimate.motion / dt, submap);
+  return log_.add(step);
+}
+
+pcl::PointCloud<PointRadar>::Ptr AutomotiveOdometry::addToSubmap(const ProcessedCycle& cycle, const EgoVelocity& ego,
+                                                                 double dt, OdometryStep& step) {
   const auto t0 = detail::Clock::now();
   submap_.add(*cycle.cloud, ego.velocity, ego.covariance, dt);
-  const pcl::PointCloud<PointRadar>::Ptr submap = submap_.cloud();
+  pcl::PointCloud<PointRadar>::Ptr submap = submap_.cloud();
   step.submap_ms = msSince(t0);
+  return submap;
+}
 
-  if (!prev) {
-    step.status = StepStatus::First;
-    map_.clear();
-    fusion_.reset();
-    keepForNextMatch(cycle, ego.velocity, submap);
-    return log_.add(step);
-  }
+const OdometryStep& AutomotiveOdometry::addFirstCycle(const ProcessedCycle& cycle, const EgoVelocity& ego,
+                                                      const pcl::PointCloud<PointRadar>::Ptr& submap,
+                                                      OdometryStep& step) {
+  step.status = StepStatus::First;
+  map_.clear();
+  fusion_.reset();
+  keepForNextMatch(cycle, ego.velocity, submap);
+  return log_.add(step);
+}
 
+MotionEstimate AutomotiveOdometry::dopplerPrior(double dt, OdometryStep& step) {
   // The Doppler motion and, fused, its bias-corrected prediction: the matcher's initial guess.
   step.doppler_motion = submap_.lastMotion();
   step.doppler_covariance = submap_.lastMotionCovariance();
   MotionEstimate prior{step.doppler_motion, step.doppler_covariance};
   if (options_.fuse_doppler) prior = fusion_.predict(step.doppler_motion, step.doppler_covariance, dt);
+  return prior;
+}
 
+MotionEstimate AutomotiveOdometry::matchAndFuse(const ProcessedCycle& cycle,
+                                                const pcl::PointCloud<PointRadar>::Ptr& submap,
+                                                const MotionEstimate& prior, double dt, OdometryStep& step) {
   // CycleToMap: the new cycle alone (the submap keeps one cycle there) against the local map;
   // SubmapToSubmap: submap to submap.
   const pcl::PointCloud<PointRadar>::Ptr& source = submap;
-  const pcl::PointCloud<PointRadar>::Ptr target = to_map ? map_.cloud() : target_;
+  const pcl::PointCloud<PointRadar>::Ptr target =
+      options_.mode == AutomotiveMatchMode::CycleToMap ? map_.cloud() : target_;
   step.source_points = source->size();
   step.target_points = target ? target->size() : 0;
-  MotionEstimate estimate = prior;
   if (!matcher_ || step.source_points < options_.min_points || step.target_points < options_.min_points) {
     step.status = StepStatus::DeadReckoned;
-    ++log_.counters().dead_reckoned;
-  } else {
-    const std::size_t newest_begin = source->size() - cycle.cloud->size();  // the submap keeps the newest cycle last
-    const Pose2 match = matchWithRetries(cycle, source, newest_begin, target, prior.motion, prior.covariance, dt, step);
-    if (step.status == StepStatus::Matched || step.status == StepStatus::Retried) {
-      step.match_motion = match;
-      step.match_covariance = matcher_.poseCovariance();
-      if (options_.fuse_doppler) {
-        estimate = fusion_.update(match, fusion_.matchCovariance(&step.match_covariance));
-      } else {
-        estimate.motion = match;
-      }
-    }
+    step.too_few_points = static_cast<bool>(matcher_);
+    return prior;
   }
-  step.yaw_rate_bias = fusion_.yawRateBias();
-  step.motion = estimate.motion;
-  step.pose = compose(prev->pose, estimate.motion);
-  motion_model_.update(estimate.motion, dt);
-  if (to_map) map_.advance(estimate.motion, estimate.covariance);
-  keepForNextMatch(cycle, estimate.motion / dt, submap);
-  return log_.add(step);
+  const std::size_t newest_begin = source->size() - cycle.cloud->size();  // the submap keeps the newest cycle last
+  const Pose2 match = matchWithRetries(cycle, source, newest_begin, target, prior.motion, prior.covariance, dt, step);
+  if (step.status != StepStatus::Matched && step.status != StepStatus::Retried) return prior;
+  step.match_motion = match;
+  step.match_covariance = matcher_.poseCovariance();
+  if (options_.fuse_doppler)
+    return fusion_.update(match, fusion_.matchCovariance(&step.match_covariance, calibration_));
+  MotionEstimate estimate = prior;
+  estimate.motion = match;
+  return estimate;
 }
 
 void AutomotiveOdometry::keepForNextMatch(const ProcessedCycle& cycle, const Eigen::Vector3d& velocity,
@@ -181,12 +202,8 @@ Pose2 AutomotiveOdometry::matchWithRetries(const ProcessedCycle& cycle, const pc
       step.status = attempt == 0 ? StepStatus::Matched : StepStatus::Retried;
     }
   }
-  OdometryCounters& counters = log_.counters();
-  if (ok) {
-    ++(step.status == StepStatus::Matched ? counters.matched : counters.retried);
-  } else {
+  if (!ok) {
     step.status = StepStatus::Fallback;
-    ++counters.fallbacks;
     motion = guess;
   }
   step.match_ms = msSince(t0);

@@ -22,6 +22,10 @@ void MotionFusionOptions::validate() const {
   check(match_sigma_x, "match_sigma_x", true);
   check(match_sigma_y, "match_sigma_y", true);
   check(match_sigma_yaw, "match_sigma_yaw", true);
+  check(rapp_covariance_scale, "rapp_covariance_scale", true);
+  check(icp_sigma_x, "icp_sigma_x", true);
+  check(icp_sigma_y, "icp_sigma_y", true);
+  check(icp_sigma_yaw, "icp_sigma_yaw", true);
   check(yaw_rate_bias_sigma, "yaw_rate_bias_sigma", false);
   check(yaw_rate_bias_walk, "yaw_rate_bias_walk", false);
 }
@@ -43,12 +47,16 @@ Eigen::Matrix3d MotionFusion::dopplerCovariance(const Eigen::Matrix3d& fit, doub
   return fit + (s.cwiseProduct(s) * (dt * dt)).asDiagonal().toDenseMatrix();
 }
 
-Eigen::Matrix3d MotionFusion::matchCovariance(const Eigen::Matrix3d* reported) const {
+Eigen::Matrix3d MotionFusion::matchCovariance(const Eigen::Matrix3d* reported, MatchCalibration calibration) const {
+  const MotionFusionOptions& o = options_;
   if (reported && reported->allFinite()) {
     const Eigen::LLT<Eigen::Matrix3d> llt(*reported);
-    if (llt.info() == Eigen::Success) return options_.match_covariance_scale * *reported;
+    const double scale = calibration == MatchCalibration::Rapp ? o.rapp_covariance_scale : o.match_covariance_scale;
+    if (llt.info() == Eigen::Success) return scale * *reported;
   }
-  const Eigen::Vector3d s(options_.match_sigma_x, options_.match_sigma_y, options_.match_sigma_yaw);
+  const Eigen::Vector3d s = calibration == MatchCalibration::PclIcp
+                                ? Eigen::Vector3d(o.icp_sigma_x, o.icp_sigma_y, o.icp_sigma_yaw)
+                                : Eigen::Vector3d(o.match_sigma_x, o.match_sigma_y, o.match_sigma_yaw);
   return s.cwiseProduct(s).asDiagonal();
 }
 

@@ -58,6 +58,7 @@ void ScanningMotionGateOptions::validate() const {
 }
 
 bool ScanningMotionGate::accept(const Pose2& motion, double dt, double mid_time) const {
+  if (!options_.enabled) return true;
   if (!have_trusted_) return true;  // no accepted match yet: nothing to check against
   // The velocity of this interval (at its middle) differs from the last accepted match's (at its
   // middle) by at most a·Δt; over dt that is a displacement difference of a·Δt·dt, plus the noise

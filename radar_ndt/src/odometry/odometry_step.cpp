@@ -15,10 +15,30 @@ const char* toString(StepStatus s) {
   return "?";
 }
 
+void countStep(const OdometryStep& s, OdometryCounters& c) {
+  ++c.cycles;
+  switch (s.status) {
+    case StepStatus::First: ++c.first; break;
+    case StepStatus::Matched: ++c.matched; break;
+    case StepStatus::Retried: ++c.retried; break;
+    case StepStatus::Fallback: ++c.fallbacks; break;
+    case StepStatus::DeadReckoned: ++c.dead_reckoned; break;
+    case StepStatus::Skipped: ++c.skipped; break;
+    case StepStatus::Bridged: ++c.bridged; break;
+  }
+  const bool matched = s.status == StepStatus::Matched || s.status == StepStatus::Retried;
+  if (s.status == StepStatus::DeadReckoned && s.too_few_points) ++c.too_few_points;
+  if (matched && s.slow) ++c.slow;
+  if (s.shift_halved) ++c.shift_halved;
+  if (!s.velocity_valid) ++c.stale_velocity;
+  c.not_converged += static_cast<std::size_t>(s.attempts_not_converged);
+  c.rejected += static_cast<std::size_t>(s.attempts_rejected);
+  c.poor_fit += static_cast<std::size_t>(s.attempts_poor_fit);
+}
+
 OdometryStep StepLog::begin(std::int64_t timestamp_us) {
   OdometryStep step;
   step.timestamp_us = timestamp_us;
-  ++counters_.cycles;
   return step;
 }
 
@@ -30,13 +50,13 @@ const OdometryStep* StepLog::previous() const {
 
 const OdometryStep& StepLog::add(const OdometryStep& step) {
   steps_.push_back(step);
+  countStep(step, counters_);
   return steps_.back();
 }
 
 const OdometryStep& StepLog::addSkipped(OdometryStep step, const OdometryStep& prev) {
   step.status = StepStatus::Skipped;
   step.pose = prev.pose;
-  ++counters_.skipped;
   return add(step);
 }
 
@@ -45,7 +65,6 @@ const OdometryStep& StepLog::bridge(std::int64_t timestamp_us, const ConstantVel
   const OdometryStep* prev = previous();
   if (!prev) {  // nothing to continue from: no pose
     step.status = StepStatus::Skipped;
-    ++counters_.skipped;
     return add(step);
   }
   if (timestamp_us <= prev->timestamp_us) return addSkipped(step, *prev);
@@ -53,7 +72,6 @@ const OdometryStep& StepLog::bridge(std::int64_t timestamp_us, const ConstantVel
   step.motion = step.doppler_motion = model.predict(dt);
   step.pose = compose(prev->pose, step.motion);
   step.status = StepStatus::Bridged;
-  ++counters_.bridged;
   return add(step);
 }
 

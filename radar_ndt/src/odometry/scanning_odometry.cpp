@@ -38,6 +38,9 @@ ScanningOdometry::ScanningOdometry(const ScanningOdometryOptions& options, Match
       fits_(options.fit),
       compensated_(new pcl::PointCloud<PointRadar>) {
   options_.validate();
+  // The odometry owns the grid, whatever the matcher was built with (prepareMatcher changes it per
+  // step: the slow grid, the retry ladder).
+  if (matcher_) setGrid(options_.grid);
 }
 
 const OdometryStep& ScanningOdometry::addScan(const ScanFrame& scan) {
@@ -50,12 +53,12 @@ const OdometryStep& ScanningOdometry::addScan(const ScanFrame& scan) {
 
   const double dt = 1e-6 * static_cast<double>(scan.timestamp_us - prev->timestamp_us);
   step.doppler_motion = motion_model_.predict(dt);  // constant velocity
-  step.target_points = target_ ? target_->size() : 0;
+  step.target_points = target_.size();
   Pose2 motion = step.doppler_motion;
   const auto t0 = detail::Clock::now();
   if (!matcher_ || step.source_points < options_.min_points || step.target_points < options_.min_points) {
     step.status = StepStatus::DeadReckoned;
-    ++log_.counters().dead_reckoned;
+    step.too_few_points = static_cast<bool>(matcher_);
   } else {
     motion = matchWithFailureHandling(scan, *prev, dt, step);
   }
@@ -73,11 +76,7 @@ const OdometryStep& ScanningOdometry::addFirstScan(const ScanFrame& scan, Odomet
   step.status = StepStatus::First;
   step.keyframe = true;
   keyframes_.reset(Pose2::Zero(), scan.timestamp_us);
-  previous_raw_.reset(new pcl::PointCloud<PointRadar>(*scan.cloud));  // a copy: the caller's cloud is not kept
-  target_compensated_ = false;
-  target_.reset(new pcl::PointCloud<PointRadar>(*scan.cloud));
-  matcher_holds_target_ = false;
-  for (auto& p : *target_) p.time_offset = 0.f;
+  target_.resetFirst(*scan.cloud);
   return log_.add(step);
 }
 
@@ -99,19 +98,14 @@ Pose2 ScanningOdometry::matchWithFailureHandling(const ScanFrame& scan, const Od
     step.doppler_motion = guess = bestStartHypothesis(scan, guess);
 
   Pose2 motion;
-  const bool ok = runRetryLadder(a, guess, g0, step, &motion);
-  OdometryCounters& counters = log_.counters();
-  if (ok) {
+  if (runRetryLadder(a, guess, g0, step, &motion)) {
     gate_.trust(motion, dt, a.mid_time);
     step.status = step.attempts == 1 ? StepStatus::Matched : StepStatus::Retried;
-    ++(step.status == StepStatus::Matched ? counters.matched : counters.retried);
-    if (step.slow) ++counters.slow;
   } else {
     step.status = StepStatus::Fallback;
-    ++counters.fallbacks;
     motion = guess;
   }
-  if (matcher_shift_ >= 0 && matcher_shift_ != o.power_shift) ++counters.shift_halved;
+  step.shift_halved = matcher_shift_ >= 0 && matcher_shift_ != o.power_shift;
   return motion;
 }
 
@@ -128,11 +122,7 @@ bool ScanningOdometry::setPowerShift(float shift) {
 void ScanningOdometry::prepareMatcher(double grid) {
   if (matcher_grid_ != grid) setGrid(grid);
   if (matcher_shift_ != options_.power_shift) setPowerShift(options_.power_shift);
-  // The target model is built once per keyframe, not once per scan: while the keyframe is kept
-  // the matcher still holds it (unless an attempt swapped in a re-compensated copy).
-  if (!matcher_holds_target_ || target_replaced_) matcher_.registration().setInputTarget(target_);
-  matcher_holds_target_ = true;
-  target_replaced_ = false;
+  target_.giveTo(matcher_.registration());
 }
 
 Pose2 ScanningOdometry::bestStartHypothesis(const ScanFrame& scan, const Pose2& guess) {
@@ -168,36 +158,15 @@ bool ScanningOdometry::runRetryLadder(const Attempt& a, const Pose2& guess, doub
       ++step.attempts;
       step.grid = g;
       step.power_shift = matcher_shift_ < 0 ? 0.f : matcher_shift_;
-      // The fit is judged at the nominal settings only (scores grow with the grid and with the
-      // power shift): a scan that fits its target nowhere there is not retried, bigger cells
-      // would only blur it in. Slow steps (their own small grid) are not judged.
       const bool nominal = halving == 0 && g == o.grid;
       Pose2 estimate;
       if (attempt(a, guess, step, &estimate)) {
-        double fit = matcher_.fitPerPoint();  // NaN: not ours, nothing to judge
-        if (!nominal && !step.slow && std::isfinite(fit)) {
-          // A retried candidate is where the ladder found something the motion prior allows after
-          // the nominal match was refused, which is weak evidence: a bus passing alongside gives
-          // one at some grid or power shift, usually wrong by decimetres and with a yaw error the
-          // fallbacks after it carry on. It is refined at the nominal settings, where its fit can
-          // be judged against recent matches, and the refined match must pass both checks;
-          // otherwise the step falls back.
-          setGrid(o.grid);
-          setPowerShift(o.power_shift);
-          ++step.attempts;
-          const Pose2 candidate = estimate;
-          if (!attempt(a, candidate, step, &estimate)) return false;
-          fit = matcher_.fitPerPoint();
-        }
-        if ((nominal || !step.slow) && std::isfinite(fit)) {
-          // Judged before it enters the history (FitHistory: refused fits enter it too).
-          const bool fits = fits_.accepts(fit);
-          fits_.add(fit);
-          if (!fits) {
-            ++log_.counters().poor_fit;
-            return false;
-          }
-        }
+        // The fit is judged at the nominal settings only (scores grow with the grid and with the
+        // power shift): a scan that fits its target nowhere there is not retried, bigger cells
+        // would only blur it in. Slow steps (their own small grid) are not judged.
+        if (!nominal && !step.slow && std::isfinite(matcher_.fitPerPoint()) && !refineAtNominal(a, step, &estimate))
+          return false;
+        if (!fitsLikeRecentMatches(nominal || !step.slow, step)) return false;
         *motion = estimate;
         return true;
       }
@@ -207,13 +176,36 @@ bool ScanningOdometry::runRetryLadder(const Attempt& a, const Pose2& guess, doub
   return false;
 }
 
+bool ScanningOdometry::refineAtNominal(const Attempt& a, OdometryStep& step, Pose2* estimate) {
+  // A retried candidate is where the ladder found something the motion prior allows after the
+  // nominal match was refused, which is weak evidence: a bus passing alongside gives one at some
+  // grid or power shift, usually wrong by decimetres and with a yaw error the fallbacks after it
+  // carry on. It is refined at the nominal settings, where its fit can be judged against recent
+  // matches, and the refined match must pass both checks; otherwise the step falls back.
+  setGrid(options_.grid);
+  setPowerShift(options_.power_shift);
+  ++step.attempts;
+  const Pose2 candidate = *estimate;
+  return attempt(a, candidate, step, estimate);
+}
+
+bool ScanningOdometry::fitsLikeRecentMatches(bool judged, OdometryStep& step) {
+  const double fit = matcher_.fitPerPoint();  // NaN: not ours, nothing to judge
+  if (!judged || !std::isfinite(fit)) return true;
+  // Judged before it enters the history (FitHistory: refused fits enter it too).
+  const bool fits = fits_.accepts(fit);
+  fits_.add(fit);
+  if (!fits) ++step.attempts_poor_fit;
+  return fits;
+}
+
 bool ScanningOdometry::attempt(const Attempt& a, const Pose2& from, OdometryStep& step, Pose2* estimate) {
   if (!matchScan(a, from, estimate, &step.compensation_rounds)) {
-    ++log_.counters().not_converged;
+    ++step.attempts_not_converged;
     return false;
   }
   if (!gate_.accept(*estimate, a.dt, a.mid_time)) {
-    ++log_.counters().rejected;
+    ++step.attempts_rejected;
     return false;
   }
   return true;
@@ -226,22 +218,14 @@ bool ScanningOdometry::matchScan(const Attempt& a, const Pose2& guess, Pose2* es
   const int max_rounds = compensate ? std::max(1, c.max_rounds) : 1;
   Pose2 est = guess;  // the motion from the previous scan
   Eigen::Vector3d v = compensate ? velocityOf(guess, a.dt) : Eigen::Vector3d::Zero();
-  if (target_replaced_) {  // a previous attempt's re-compensated target: back to this step's own
-    matcher.setInputTarget(target_);
-    target_replaced_ = false;
-  }
+  target_.restore(matcher);  // a previous attempt's re-compensated target: back to this step's own
   for (int r = 0; r < max_rounds; ++r) {
     if (compensate) {
       // Round 0: both scans at the constant-velocity estimate (the target already is). Later
       // rounds: both at the velocity this match found, which is the target sweep's own velocity
       // and the best estimate for the source's.
       // The first target was never compensated (no velocity then): it is, from round 0 on.
-      if ((r > 0 || !target_compensated_) && previous_raw_ && a.target_is_previous) {
-        pcl::PointCloud<PointRadar>::Ptr target(new pcl::PointCloud<PointRadar>);
-        compensateMotion(*previous_raw_, v, *target);
-        matcher.setInputTarget(target);
-        target_replaced_ = true;
-      }
+      if ((r > 0 || !target_.compensated()) && a.target_is_previous) target_.giveRecompensated(matcher, v);
       compensateMotion(*a.raw, v, *compensated_);
       matcher.setInputSource(compensated_);
       ++*rounds;
@@ -271,25 +255,15 @@ void ScanningOdometry::updateKeyframe(const ScanFrame& scan, OdometryStep& step,
   // The next target: this scan at its reference time, with the velocity just estimated, unless
   // the keyframe is kept (KeyframePolicy).
   const bool matched = step.status == StepStatus::Matched || step.status == StepStatus::Retried;
-  const bool keyframe_usable = target_ && target_->size() >= options_.min_points;
+  const bool keyframe_usable = target_.cloud() && target_.size() >= options_.min_points;
   const bool compensate = options_.compensation.enabled;
+  const Eigen::Vector3d velocity = velocityOf(step.motion, dt);
   if (keyframes_.replaceAfter(matched, step.pose, keyframe_usable)) {
     step.keyframe = true;
     keyframes_.reset(step.pose, step.timestamp_us);
-    previous_raw_.reset(new pcl::PointCloud<PointRadar>(*scan.cloud));
-    target_.reset(new pcl::PointCloud<PointRadar>);
-    matcher_holds_target_ = false;
-    if (compensate)
-      compensateMotion(*scan.cloud, velocityOf(step.motion, dt), *target_);
-    else
-      *target_ = *scan.cloud;
-    target_compensated_ = true;
-  } else if (!target_compensated_ && compensate && previous_raw_) {
-    // The kept keyframe is the first scan: compensate it with the first velocity there is.
-    target_.reset(new pcl::PointCloud<PointRadar>);
-    matcher_holds_target_ = false;
-    compensateMotion(*previous_raw_, velocityOf(step.motion, dt), *target_);
-    target_compensated_ = true;
+    target_.reset(*scan.cloud, compensate ? &velocity : nullptr);
+  } else if (compensate) {
+    target_.compensateFirst(velocity);  // the kept keyframe is the first scan: once a velocity is known
   }
 }
 

@@ -18,6 +18,16 @@ double ms(Clock::time_point a, Clock::time_point b) {
 }  // namespace
 
 void AutomotiveRunOptions::validate() const {
+  // A method is more than its matcher (withMethod): a half-set combination is refused, not run.
+  const bool rapp = matcher.method == Method::RappNdt;
+  if (rapp != odometry.doppler_weights)
+    throw std::invalid_argument(std::string("AutomotiveRunOptions: odometry.doppler_weights must be ") +
+                                (rapp ? "true" : "false") + " for method " + toString(matcher.method) +
+                                " (withMethod sets it)");
+  if (rapp && front_end.remove_moving)
+    throw std::invalid_argument(
+        "AutomotiveRunOptions: front_end.remove_moving must be false for method rapp-ndt: its Doppler weights "
+        "handle the moving detections (withMethod sets it)");
   matcher.validate();
   sequence.validate();
   front_end.validate();
@@ -28,30 +38,68 @@ AutomotiveRunOptions withMethod(AutomotiveRunOptions options, Method method) {
   options.matcher.method = method;
   options.odometry.doppler_weights = method == Method::RappNdt;
   if (method == Method::RappNdt) options.front_end.remove_moving = false;
-  // The fusion's match covariance per matcher, calibrated on the shared nuScenes scenes
-  // (radar_paper_tables --noise-calibration; docs/automotive_pipeline.md): ours reports one, which
-  // Rapp's weights make less optimistic; PCL's matchers report none.
-  MotionFusionOptions& f = options.odometry.fusion;
-  if (method == Method::RappNdt) f.match_covariance_scale = 1.23;
-  if (method == Method::PclNdt) {
-    f.match_sigma_x = 0.040;
-    f.match_sigma_y = 0.046;
-    f.match_sigma_yaw = 0.0017;
-  }
-  if (method == Method::PclIcp) {
-    f.match_sigma_x = 0.074;
-    f.match_sigma_y = 0.071;
-    f.match_sigma_yaw = 0.0021;
-  }
   return options;
+}
+
+MatchCalibration matchCalibrationOf(Method method) {
+  switch (method) {
+    case Method::RappNdt: return MatchCalibration::Rapp;
+    case Method::PclNdt: return MatchCalibration::PclNdt;
+    case Method::PclIcp: return MatchCalibration::PclIcp;
+    default: return MatchCalibration::Ours;
+  }
 }
 
 AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
                                           const AutomotiveRunOptions& options,
                                           const std::function<void(std::size_t, std::size_t)>& progress) {
   options.validate();
-  return runAutomotiveOdometry(dataset, scene, options, makeMatcher(options.matcher, options.odometry.grid), progress);
+  return runAutomotiveOdometry(dataset, scene, options, makeMatcher(options.matcher), progress);
 }
+
+namespace {
+
+/// Per cycle samples of the stage times and the ego-velocity fit, for the medians and means.
+struct CycleSamples {
+  std::vector<double> read, front_end, submap, match, total, residual;
+  void add(double read_ms, double front_end_ms, const OdometryStep& step) {
+    read.push_back(read_ms);
+    front_end.push_back(front_end_ms);
+    submap.push_back(step.submap_ms);
+    match.push_back(step.match_ms);
+    total.push_back(read_ms + front_end_ms + step.submap_ms + step.match_ms);
+  }
+};
+
+double mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / static_cast<double>(v.size());
+}
+
+/// What the front-end found in a cycle: detections, moving ones removed, the ego-velocity fit.
+void countFrontEnd(const ProcessedCycle& processed, AutomotiveRunResult& result, CycleSamples& samples) {
+  result.detections += processed.raw_points;
+  result.removed_moving += processed.removed_moving;
+  if (processed.ego.valid) {
+    samples.residual.push_back(processed.ego.residual_rms);
+    if (processed.ego.nonholonomic) ++result.nonholonomic_velocity_cycles;
+  } else {
+    ++result.invalid_velocity_cycles;
+  }
+  result.ego_speed.push_back(processed.ego.valid ? processed.ego.velocity.head<2>().norm()
+                                                 : std::numeric_limits<double>::quiet_NaN());
+}
+
+/// A cycle a matcher could not match for too few points, as a problem naming it; "" otherwise.
+std::string problemOf(const OdometryStep& step, const AutomotiveOdometryOptions& options) {
+  if (step.status != StepStatus::DeadReckoned || !step.too_few_points) return "";
+  return "too few points to match (" + std::to_string(step.source_points) + " in the cycle, " +
+         std::to_string(step.target_points) + " in its target; at least " + std::to_string(options.min_points) +
+         " each): the Doppler motion";
+}
+
+}  // namespace
 
 AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
                                           const AutomotiveRunOptions& options, MatcherAdapter matcher,
@@ -59,7 +107,6 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
   options.validate();
   const NuScenesRadarSequence sequence(dataset, scene, options.sequence);
   const AutomotiveFrontEnd front_end(options.front_end);
-  if (matcher) matcher.setGrid(options.odometry.grid);
   AutomotiveOdometry odometry(options.odometry, std::move(matcher));
 
   AutomotiveRunResult result;
@@ -70,7 +117,7 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
   result.period_s = sequence.periodSeconds();
   result.problems = sequence.silences();
   const std::size_t n = options.max_cycles > 0 ? std::min(options.max_cycles, sequence.size()) : sequence.size();
-  std::vector<double> read, fe, sub, match, total, residual;
+  CycleSamples samples;
   EgoVelocity last_valid;
   bool have_valid = false;
   for (std::size_t k = 0; k < n; ++k) {
@@ -80,36 +127,22 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
     const auto t1 = Clock::now();
     const ProcessedCycle processed = front_end.process(cycle, have_valid ? &last_valid : nullptr);
     const auto t2 = Clock::now();
-    result.detections += processed.raw_points;
-    result.removed_moving += processed.removed_moving;
+    countFrontEnd(processed, result, samples);
     if (processed.ego.valid) {
-      residual.push_back(processed.ego.residual_rms);
-      if (processed.ego.nonholonomic) ++result.nonholonomic_velocity_cycles;
       last_valid = processed.ego;
       have_valid = true;
-    } else {
-      ++result.invalid_velocity_cycles;
     }
-    result.ego_speed.push_back(processed.ego.valid ? processed.ego.velocity.head<2>().norm()
-                                                   : std::numeric_limits<double>::quiet_NaN());
     const OdometryStep& step = odometry.add(processed);
+    const std::string problem = problemOf(step, options.odometry);
+    if (!problem.empty()) problems.push_back(problem);
     for (const auto& p : problems) result.problems.push_back("cycle " + std::to_string(k) + ": " + p);
-    read.push_back(ms(t0, t1));
-    fe.push_back(ms(t1, t2));
-    sub.push_back(step.submap_ms);
-    match.push_back(step.match_ms);
-    total.push_back(read.back() + fe.back() + sub.back() + match.back());
+    samples.add(ms(t0, t1), ms(t1, t2), step);
     if (progress) progress(k + 1, n);
   }
-  auto mean = [](const std::vector<double>& v) {
-    double s = 0;
-    for (double x : v) s += x;
-    return v.empty() ? 0.0 : s / static_cast<double>(v.size());
-  };
-  result.median_ms = {median(read), median(fe), median(sub), median(match)};
-  result.mean_ms = {mean(read), mean(fe), mean(sub), mean(match)};
-  result.median_total_ms = median(total);
-  result.median_doppler_residual = median(residual);
+  result.median_ms = {median(samples.read), median(samples.front_end), median(samples.submap), median(samples.match)};
+  result.mean_ms = {mean(samples.read), mean(samples.front_end), mean(samples.submap), mean(samples.match)};
+  result.median_total_ms = median(samples.total);
+  result.median_doppler_residual = median(samples.residual);
   result.steps = odometry.steps();
   result.counters = odometry.counters();
   result.estimate = odometry.trajectory();

@@ -64,6 +64,79 @@ void ScanningRunOptions::validate() const {
     throw std::invalid_argument("ScanningRunOptions: pcl_voxel_size must be >= 0 (0: full scans)");
 }
 
+namespace {
+
+/// Per scan samples of the stage times and point counts, for the medians.
+struct ScanSamples {
+  std::vector<double> read, front_end, match, total, points;
+  void add(const detail::PreparedScan& p, const OdometryStep& step) {
+    read.push_back(p.read_ms);
+    front_end.push_back(p.front_end_ms);
+    match.push_back(step.match_ms);
+    total.push_back(p.read_ms + p.front_end_ms + step.match_ms);
+    points.push_back(static_cast<double>(p.cloud->size()));
+  }
+};
+
+ScanningRunResult startResult(const ScanningSequence& sequence, const ScanningRunOptions& options) {
+  ScanningRunResult result;
+  result.problems = sequence.indexProblems();
+  result.sequence = sequence.name();
+  result.format = sequence.format();
+  result.method = options.matcher.method;
+  result.prefetch = options.prefetch;
+  result.period_s = sequence.periodSeconds();
+  return result;
+}
+
+/// A step no match was made for, as a problem naming the scan's file and why; "" for the others.
+std::string problemOf(const OdometryStep& step, const ScanningOdometryOptions& options) {
+  if (step.status == StepStatus::DeadReckoned && step.too_few_points)
+    return "too few points to match (" + std::to_string(step.source_points) + " in the scan, " +
+           std::to_string(step.target_points) + " in its keyframe; at least " + std::to_string(options.min_points) +
+           " each): constant-velocity motion";
+  if (step.status != StepStatus::Fallback) return "";
+  std::string why;
+  auto add = [&why](int n, const char* what) {
+    if (n) why += (why.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+  };
+  add(step.attempts_poor_fit, "fitting far worse than recent scans");
+  add(step.attempts_rejected, "refused by the motion prior");
+  add(step.attempts_not_converged, "not converged");
+  return "no match passed (" + (why.empty() ? std::string("no power weights") : why) + "): constant-velocity motion";
+}
+
+/// The sequence's ground truth from the estimate's first stamp to its last, re-based so that the
+/// first is the identity; empty without ground truth there.
+Trajectory rebasedGroundTruth(const Trajectory& gt, const Trajectory& estimate) {
+  Trajectory out;
+  Eigen::Isometry3d origin_3d;
+  if (gt.empty() || estimate.empty() || !gt.poseAt(estimate.stamps.front(), &origin_3d)) return out;
+  const Pose2 origin = toPose2(origin_3d);
+  for (std::size_t i = 0; i < gt.size(); ++i) {
+    if (gt.stamps[i] + 1e-6 < estimate.stamps.front()) continue;
+    if (gt.stamps[i] - 1e-6 > estimate.stamps.back()) break;
+    out.stamps.push_back(gt.stamps[i]);
+    out.poses.push_back(toIsometry3(between(origin, toPose2(gt.poses[i]))));
+  }
+  return out;
+}
+
+/// The scan at its reference time, for the caller's callback (the keyframe may be an older scan):
+/// moved with the step's velocity when compensation is on.
+pcl::PointCloud<PointRadar> atReferenceTime(const pcl::PointCloud<PointRadar>& scan, const OdometryStep& step,
+                                            std::int64_t previous_stamp_us, bool compensate) {
+  pcl::PointCloud<PointRadar> out;
+  const double dt = 1e-6 * static_cast<double>(step.timestamp_us - previous_stamp_us);
+  if (compensate && step.status != StepStatus::First && dt > 0)
+    compensateMotion(scan, velocityOf(step.motion, dt), out);
+  else
+    out = scan;
+  return out;
+}
+
+}  // namespace
+
 ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const ScanningRunOptions& options,
                                       const std::function<void(std::size_t, std::size_t)>& progress,
                                       const ScanCallback& on_scan) {
@@ -75,16 +148,9 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
       options.max_scans > 0 ? std::min(sequence.size(), options.start + options.max_scans) : sequence.size();
   const std::size_t n = end - options.start;
   const PowerThreshold front_end(options.front_end);  // used by one thread at a time (the prefetcher's chain)
-  ScanningOdometry odometry(options.odometry, makeMatcher(options.matcher, options.odometry.grid));
-
-  ScanningRunResult result;
-  result.problems = sequence.indexProblems();
-  result.sequence = sequence.name();
-  result.format = sequence.format();
-  result.method = options.matcher.method;
-  result.prefetch = options.prefetch;
-  result.period_s = sequence.periodSeconds();
-  std::vector<double> read, fe, match, total, points;
+  ScanningOdometry odometry(options.odometry, makeMatcher(options.matcher));
+  ScanningRunResult result = startResult(sequence, options);
+  ScanSamples samples;
   const auto wall0 = Clock::now();
   const double voxel = options.matcher.method == Method::PwNdt ? 0.0 : options.pcl_voxel_size;
   detail::ScanPrefetcher prefetcher(sequence, front_end, voxel, options.prefetch);
@@ -97,64 +163,26 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
       result.problems.push_back("scan " + std::to_string(k) + ": " + p.problem + " (bridged with the motion model)");
       odometry.bridge(sequence.stamp(k));
     } else {
-      const OdometryCounters before = odometry.counters();
       const OdometryStep& step = odometry.addScan(ScanFrame{sequence.stamp(k), p.cloud});
-      if (step.status == StepStatus::Fallback) {
-        // Why no match passed, from what this step added to the counters.
-        const OdometryCounters& c = odometry.counters();
-        std::string why;
-        auto add = [&why](std::size_t n, const char* what) {
-          if (n) why += (why.empty() ? "" : ", ") + std::to_string(n) + " " + what;
-        };
-        add(c.poor_fit - before.poor_fit, "fitting far worse than recent scans");
-        add(c.rejected - before.rejected, "refused by the motion prior");
-        add(c.not_converged - before.not_converged, "not converged");
-        result.problems.push_back("scan " + std::to_string(k) + ": " + sequence.path(k) + ": no match passed (" +
-                                  (why.empty() ? std::string("no power weights") : why) +
-                                  "): constant-velocity motion");
-      }
-      read.push_back(p.read_ms);
-      fe.push_back(p.front_end_ms);
-      match.push_back(step.match_ms);
-      total.push_back(p.read_ms + p.front_end_ms + step.match_ms);
-      points.push_back(static_cast<double>(p.cloud->size()));
-      if (on_scan && step.status != StepStatus::Skipped) {
-        // This scan at its reference time (the keyframe may be an older scan).
-        pcl::PointCloud<PointRadar> at_reference;
-        const double dt = 1e-6 * static_cast<double>(step.timestamp_us - last_stamp_us);
-        if (options.odometry.compensation.enabled && step.status != StepStatus::First && dt > 0)
-          compensateMotion(*p.cloud, velocityOf(step.motion, dt), at_reference);
-        else
-          at_reference = *p.cloud;
-        on_scan(k, step, at_reference);
-      }
+      const std::string problem = problemOf(step, options.odometry);
+      if (!problem.empty())
+        result.problems.push_back("scan " + std::to_string(k) + ": " + sequence.path(k) + ": " + problem);
+      samples.add(p, step);
+      if (on_scan && step.status != StepStatus::Skipped)
+        on_scan(k, step, atReferenceTime(*p.cloud, step, last_stamp_us, options.odometry.compensation.enabled));
       if (step.status != StepStatus::Skipped) last_stamp_us = step.timestamp_us;
     }
     if (progress) progress(k - options.start + 1, n);
   }
   result.wall_s = std::chrono::duration<double>(Clock::now() - wall0).count();
   result.scans_per_second = result.wall_s > 0 ? static_cast<double>(n) / result.wall_s : 0.0;
-  result.median_ms = {median(read), median(fe), 0.0, median(match)};
-  result.median_total_ms = median(total);
-  result.median_points = median(points);
+  result.median_ms = {median(samples.read), median(samples.front_end), 0.0, median(samples.match)};
+  result.median_total_ms = median(samples.total);
+  result.median_points = median(samples.points);
   result.steps = odometry.steps();
   result.counters = odometry.counters();
   result.estimate = odometry.trajectory();
-
-  // Ground truth at the estimate's stamps, re-based on the first one.
-  const Trajectory& gt = sequence.groundTruth();
-  if (!gt.empty() && !result.estimate.empty()) {
-    Eigen::Isometry3d origin_3d;
-    if (gt.poseAt(result.estimate.stamps.front(), &origin_3d)) {
-      const Pose2 origin = toPose2(origin_3d);
-      for (std::size_t i = 0; i < gt.size(); ++i) {
-        if (gt.stamps[i] + 1e-6 < result.estimate.stamps.front()) continue;
-        if (gt.stamps[i] - 1e-6 > result.estimate.stamps.back()) break;
-        result.ground_truth.stamps.push_back(gt.stamps[i]);
-        result.ground_truth.poses.push_back(toIsometry3(between(origin, toPose2(gt.poses[i]))));
-      }
-    }
-  }
+  result.ground_truth = rebasedGroundTruth(sequence.groundTruth(), result.estimate);
   return result;
 }
 

@@ -33,7 +33,15 @@ std::string stepsCsv(const ScanningRunResult& run);
 std::string summaryJson(const AutomotiveRunResult& run, const EvaluationReport* metrics = nullptr);
 std::string summaryJson(const ScanningRunResult& run, const EvaluationReport* metrics = nullptr);
 
-/// The summary as the apps print it (a few lines), without the metrics table.
+/// For a run whose steps were mostly not matched (OdometryCounters::mostlyUnmatched: fallbacks,
+/// too few points and unreadable files, more than half of the steps after the first), one line
+/// that says so, how, and what to check; "" otherwise. radar_odometry prints it last and exits 1.
+std::string failureText(const AutomotiveRunResult& run);
+std::string failureText(const ScanningRunResult& run);
+
+/// The summary as the apps print it (a few lines: every step counted once, first, matched,
+/// retried, fallbacks, dead-reckoned, bridged and skipped adding up to the steps), without the
+/// metrics table.
 std::string summaryText(const AutomotiveRunResult& run);
 std::string summaryText(const ScanningRunResult& run);
 

@@ -95,6 +95,18 @@ class AutomotiveOdometry {
  private:
   /// The cycle's ego-velocity, or the last valid one with its covariance grown.
   EgoVelocity egoVelocityOf(const ProcessedCycle& cycle);
+  /// The cycle into the submap (which also integrates the Doppler motion); the submap's cloud.
+  pcl::PointCloud<PointRadar>::Ptr addToSubmap(const ProcessedCycle& cycle, const EgoVelocity& ego, double dt,
+                                               OdometryStep& step);
+  /// The first cycle: identity, and what the next match needs of it.
+  const OdometryStep& addFirstCycle(const ProcessedCycle& cycle, const EgoVelocity& ego,
+                                    const pcl::PointCloud<PointRadar>::Ptr& submap, OdometryStep& step);
+  /// The Doppler motion of the cycle, fused: the bias-corrected prediction (the match's guess).
+  MotionEstimate dopplerPrior(double dt, OdometryStep& step);
+  /// The match of the cycle (or submap) to its target from `prior`, with retries, fused with the
+  /// prior (or, not fused, the match itself); `prior` when nothing was matched.
+  MotionEstimate matchAndFuse(const ProcessedCycle& cycle, const pcl::PointCloud<PointRadar>::Ptr& submap,
+                              const MotionEstimate& prior, double dt, OdometryStep& step);
   /// Match `source` to the last submap from `guess`, retrying with larger grids; the accepted
   /// motion, or the guess after a fallback (step's status, attempts, grid and χ² set).
   /// Source points from `newest_begin` on are the newest cycle's (the ones Rapp's rounds reweight).
@@ -117,6 +129,7 @@ class AutomotiveOdometry {
   ProbabilisticSubmap submap_;  ///< the paper's submap; also integrates the Doppler motion
   LocalMap map_;                ///< CycleToMap's target
   MotionFusion fusion_;
+  MatchCalibration calibration_ = MatchCalibration::Ours;  ///< how the fusion trusts this matcher's matches
   ConstantVelocityModel motion_model_;
   StepLog log_;
   pcl::PointCloud<PointRadar>::Ptr target_;  ///< the last submap (SubmapToSubmap)

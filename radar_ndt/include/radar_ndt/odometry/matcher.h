@@ -73,6 +73,7 @@ class MatcherAdapter {
     if (!registration) return;
     R* r = registration.get();
     if constexpr (std::is_base_of_v<Ours, R>) ours_ = r;
+    grid_is_resolution_ = detail::HasResolution<R>::value;
     if constexpr (detail::HasResolution<R>::value)
       set_grid_ = [r](double g) { r->setResolution(static_cast<float>(g)); };
     else
@@ -90,6 +91,8 @@ class MatcherAdapter {
   const RadarRegistration::Ptr& registrationPtr() const { return registration_; }
   /// Ours, or nullptr for another matcher.
   Ours* ours() const { return ours_; }
+  /// Whether the grid is an NDT resolution (ours, PCL's NDT) rather than ICP's correspondence distance.
+  bool gridIsResolution() const { return grid_is_resolution_; }
 
   /// The grid size: NDT cell size, or ICP's max correspondence distance (m).
   void setGrid(double grid) const { set_grid_(grid); }
@@ -121,6 +124,7 @@ class MatcherAdapter {
  private:
   RadarRegistration::Ptr registration_;
   Ours* ours_ = nullptr;
+  bool grid_is_resolution_ = false;
   std::function<void(double)> set_grid_;
   std::function<double()> score_;
 };
@@ -150,10 +154,11 @@ struct MatcherOptions {
 };
 
 /// A new matcher for `options.method` at grid size `grid` (NDT cell size; ICP: max correspondence
-/// distance), or an empty adapter for Method::Doppler.
-MatcherAdapter makeMatcher(const MatcherOptions& options, double grid);
+/// distance), or an empty adapter for Method::Doppler. The odometries own the grid: they set their
+/// options' grid on the matcher they are given, whatever it was built with.
+MatcherAdapter makeMatcher(const MatcherOptions& options, double grid = 3.0);
 /// makeMatcher with the default settings of `method`.
-MatcherAdapter makeMatcher(Method method, double grid);
+MatcherAdapter makeMatcher(Method method, double grid = 3.0);
 
 /// The settings pcl::NormalDistributionsTransform runs with wherever it is compared with ours
 /// (any point type): resolution = grid, step 0.5, ε 1e-4, at most 50 iterations.

@@ -27,19 +27,38 @@ struct MotionFusionOptions {
   double doppler_sigma_x = 0.18;
   double doppler_sigma_y = 0.07;
   double doppler_sigma_yaw = 0.024;
-  /// A matcher that reports a pose covariance (ours: the inverse weighted information, which treats
-  /// points as independent): that covariance times this factor.
+  // How far a match is trusted, calibrated per matcher on the shared nuScenes scenes
+  // (radar_paper_tables --noise-calibration; docs/automotive_pipeline.md); the odometry picks the
+  // calibration of the matcher it was given (MatchCalibration).
+  /// Ours reports a pose covariance (the inverse weighted information, which treats points as
+  /// independent): that covariance times this factor.
   double match_covariance_scale = 2.2;
-  /// A matcher that reports none: diag(σ²) with these 1σ (m, m, rad); PCL NDT's calibration (withMethod sets ICP's).
+  /// Ours with Rapp's Doppler weights: its covariance times this factor (the weights make the
+  /// information less optimistic).
+  double rapp_covariance_scale = 1.23;
+  /// A matcher that reports none and has a grid resolution (PCL's NDT): diag(σ²) with these 1σ
+  /// (m, m, rad).
   double match_sigma_x = 0.040;
   double match_sigma_y = 0.046;
   double match_sigma_yaw = 0.0017;
+  /// Any other matcher without a covariance (PCL's ICP): diag(σ²) with these 1σ (m, m, rad).
+  double icp_sigma_x = 0.074;
+  double icp_sigma_y = 0.071;
+  double icp_sigma_yaw = 0.0021;
   /// Yaw-rate bias: 1σ at the start (rad/s) and its random walk (rad/s per √s). 0 and 0: no bias
   /// state (plain information-weighted fusion of the two motions).
   double yaw_rate_bias_sigma = 0.01;
   double yaw_rate_bias_walk = 0.003;
   /// Throws std::invalid_argument naming the first setting out of range.
   void validate() const;
+};
+
+/// Which calibration of MotionFusionOptions a match is fused with: the matcher that made it.
+enum class MatchCalibration {
+  Ours,    ///< its reported covariance × match_covariance_scale
+  Rapp,    ///< ours with Doppler weights: × rapp_covariance_scale
+  PclNdt,  ///< no covariance: match_sigma_*
+  PclIcp,  ///< no covariance: icp_sigma_*
 };
 
 /// A motion and its covariance.
@@ -58,9 +77,10 @@ class MotionFusion {
   MotionEstimate predict(const Pose2& doppler_motion, const Eigen::Matrix3d& doppler_fit_covariance, double dt);
   /// Fuses the last prediction with a match of covariance `match_covariance`; updates the bias.
   MotionEstimate update(const Pose2& match, const Eigen::Matrix3d& match_covariance);
-  /// The covariance a match is fused with: `reported` × the scale when the matcher reported one
-  /// (finite, positive definite), else the fixed σ's.
-  Eigen::Matrix3d matchCovariance(const Eigen::Matrix3d* reported) const;
+  /// The covariance a match is fused with: `reported` × the calibration's scale when the matcher
+  /// reported one (finite, positive definite), else the calibration's fixed σ's.
+  Eigen::Matrix3d matchCovariance(const Eigen::Matrix3d* reported,
+                                  MatchCalibration calibration = MatchCalibration::Ours) const;
   /// The Doppler motion's calibrated covariance: fit covariance + diag(σ²)·dt².
   Eigen::Matrix3d dopplerCovariance(const Eigen::Matrix3d& doppler_fit_covariance, double dt) const;
 

@@ -43,6 +43,9 @@ class AutomotiveMotionGate {
 };
 
 struct ScanningMotionGateOptions {
+  /// false: a converged match is always accepted (no motion-prior check), as for the automotive
+  /// gate (`--no-gate` in both pipelines).
+  bool enabled = true;
   double max_acceleration = 8.0;  ///< motion prior (m/s²)
   /// Yaw-rate change allowed per second (rad/s²): a sanity bound far above what a car does.
   double max_yaw_acceleration = 4.0;

@@ -1,6 +1,8 @@
 #pragma once
 // What both odometries record per cycle or scan (OdometryStep), their counters, and the step log
-// they share: skipped and bridged steps, the last processed step, the trajectory.
+// they share: skipped and bridged steps, the last processed step, the trajectory. The counters are
+// derived from the steps in one place (StepLog::add): an odometry records what happened in the
+// step, never in a counter.
 
 #include <cstdint>
 #include <limits>
@@ -19,7 +21,8 @@ enum class StepStatus {
   Matched,       ///< the match passed the checks at the nominal grid
   Retried,       ///< passed after the grid was enlarged
   Fallback,      ///< every attempt failed: ego-velocity integral (scanning: constant velocity)
-  DeadReckoned,  ///< no matcher (Method::Doppler), or too few points to match (scanning: constant velocity)
+  DeadReckoned,  ///< no matcher (Method::Doppler), or too few points to match (too_few_points; scanning: constant
+                 ///< velocity)
   Skipped,       ///< timestamp not after the previous cycle's: no pose
   Bridged,       ///< the scan or cycle could not be read (bridge()): pose from the motion model, not matched
 };
@@ -32,6 +35,9 @@ struct OdometryStep {
   Pose2 doppler_motion = Pose2::Zero();  ///< the initial guess: ego-velocity integral (scanning: constant velocity)
   StepStatus status = StepStatus::First;
   int attempts = 0;
+  /// DeadReckoned although there is a matcher: the scan (or cycle) or its target had fewer points
+  /// than the odometry's min_points.
+  bool too_few_points = false;
   double grid = 0;
   double match_ms = 0;
   std::size_t source_points = 0, target_points = 0;
@@ -47,14 +53,28 @@ struct OdometryStep {
   Eigen::Matrix3d match_covariance = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   double yaw_rate_bias = 0;  ///< the fusion's Doppler yaw-rate bias estimate after this cycle (rad/s)
   // Scanning only:
-  float power_shift = 0;        ///< s of the accepted (or last) attempt
-  int compensation_rounds = 0;  ///< matches run with motion-compensated points, all attempts
-  bool slow = false;            ///< the slow-speed grid was used
-  bool keyframe = false;        ///< this scan became the target of the next matches
+  float power_shift = 0;           ///< s of the accepted (or last) attempt
+  int compensation_rounds = 0;     ///< matches run with motion-compensated points, all attempts
+  bool slow = false;               ///< the slow-speed grid was used
+  bool keyframe = false;           ///< this scan became the target of the next matches
+  bool shift_halved = false;       ///< the accepted match (or the fallback) needed s halved
+  int attempts_not_converged = 0;  ///< attempts that did not converge
+  int attempts_rejected = 0;       ///< converged attempts the motion prior refused
+  int attempts_poor_fit = 0;       ///< converged attempts refused for a fit far below recent matches
 };
 
+/// How many steps ended each way, derived from the steps (StepLog::add, countStep): first,
+/// matched, retried, fallbacks, dead_reckoned, skipped and bridged add up to `cycles`.
 struct OdometryCounters {
-  std::size_t cycles = 0, matched = 0, retried = 0, fallbacks = 0, dead_reckoned = 0, skipped = 0, bridged = 0;
+  std::size_t cycles = 0, first = 0, matched = 0, retried = 0, fallbacks = 0, dead_reckoned = 0, skipped = 0,
+              bridged = 0;
+  std::size_t too_few_points = 0;  ///< of the dead-reckoned steps, those a matcher could not match
+  /// Steps that a matcher should have matched and did not (fallbacks, too few points, unreadable
+  /// scans bridged), of those it could have (all but the first and the skipped).
+  std::size_t unmatched() const { return fallbacks + too_few_points + bridged; }
+  std::size_t matchable() const { return cycles - first - skipped; }
+  /// More than half the matchable steps were not matched: the trajectory is mostly dead reckoning.
+  bool mostlyUnmatched() const { return matchable() > 0 && 2 * unmatched() > matchable(); }
   // Automotive only:
   std::size_t stale_velocity = 0;  ///< cycles without their own ego-velocity
   // Scanning only:
@@ -68,11 +88,11 @@ struct OdometryCounters {
 /// The steps of one run and their counters.
 class StepLog {
  public:
-  /// A new step at `timestamp_us`, counted as a cycle (not yet recorded).
+  /// A new step at `timestamp_us` (not yet recorded).
   OdometryStep begin(std::int64_t timestamp_us);
   /// The last step that was processed: neither skipped nor bridged (nullptr before the first).
   const OdometryStep* previous() const;
-  /// Records `step` (its status counted by the caller) and returns the stored copy.
+  /// Records `step`, counts it (countStep) and returns the stored copy.
   const OdometryStep& add(const OdometryStep& step);
   /// Records `step` as skipped: its timestamp does not advance past `prev`'s.
   const OdometryStep& addSkipped(OdometryStep step, const OdometryStep& prev);
@@ -83,7 +103,6 @@ class StepLog {
 
   const std::vector<OdometryStep>& steps() const { return steps_; }
   const OdometryCounters& counters() const { return counters_; }
-  OdometryCounters& counters() { return counters_; }
   /// Poses of all non-skipped steps (bridged ones included), stamps in seconds.
   Trajectory trajectory() const;
 
@@ -91,5 +110,9 @@ class StepLog {
   std::vector<OdometryStep> steps_;
   OdometryCounters counters_;
 };
+
+/// Adds what one recorded step says to `counters`: its status, and for the scanning pipeline its
+/// slow grid, halved shift and refused attempts; for the automotive one a reused ego-velocity.
+void countStep(const OdometryStep& step, OdometryCounters& counters);
 
 }  // namespace radar_ndt

@@ -16,6 +16,7 @@
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/odometry/fit_history.h"
 #include "radar_ndt/odometry/keyframe_policy.h"
+#include "radar_ndt/odometry/keyframe_target.h"
 #include "radar_ndt/odometry/matcher.h"
 #include "radar_ndt/odometry/motion_compensation.h"
 #include "radar_ndt/odometry/motion_gate.h"
@@ -79,7 +80,7 @@ class ScanningOdometry {
   Trajectory trajectory() const { return log_.trajectory(); }
   /// What the next scan is matched against: the keyframe at its reference time (motion-compensated
   /// with its estimated velocity when compensation is on).
-  pcl::PointCloud<PointRadar>::ConstPtr keyframeCloud() const { return target_; }
+  pcl::PointCloud<PointRadar>::ConstPtr keyframeCloud() const { return target_.cloud(); }
 
  private:
   /// What one step's attempts share.
@@ -105,6 +106,10 @@ class ScanningOdometry {
   bool runRetryLadder(const Attempt& a, const Pose2& guess, double nominal_grid, OdometryStep& step, Pose2* motion);
   /// One attempt at the current matcher settings: match (≤ compensation rounds), then the gate.
   bool attempt(const Attempt& a, const Pose2& from, OdometryStep& step, Pose2* estimate);
+  /// A candidate the ladder found off the nominal settings, refined there and judged by its fit.
+  bool refineAtNominal(const Attempt& a, OdometryStep& step, Pose2* estimate);
+  /// Whether a converged, gated match fits as well as recent ones (judged fits enter the history).
+  bool fitsLikeRecentMatches(bool judged, OdometryStep& step);
   /// Match, re-compensate, match again (≤ rounds) from `guess` (the motion from the previous scan).
   bool matchScan(const Attempt& a, const Pose2& guess, Pose2* estimate, int* rounds);
   /// The scan as the next target, or the first scan compensated once a velocity is known.
@@ -114,6 +119,7 @@ class ScanningOdometry {
   MatcherAdapter matcher_;
   ScanningMotionGate gate_;
   KeyframePolicy keyframes_;
+  KeyframeTarget target_;
   FitHistory fits_;
   ConstantVelocityModel motion_model_;
   StepLog log_;
@@ -121,13 +127,8 @@ class ScanningOdometry {
   // set (the matcher has no power weights).
   double matcher_grid_ = 0;
   float matcher_shift_ = -1;
-  pcl::PointCloud<PointRadar>::Ptr target_;             ///< the keyframe at its reference time
-  pcl::PointCloud<PointRadar>::ConstPtr previous_raw_;  ///< a copy of the keyframe as given, to re-compensate
-  pcl::PointCloud<PointRadar>::Ptr compensated_;        ///< scratch: the source of the last attempt
-  pcl::PointCloud<PointRadar> aligned_;  ///< scratch: the matcher's output (unused; kept to reuse its memory)
-  bool target_replaced_ = false;         ///< the matcher holds a re-compensated copy of target_
-  bool matcher_holds_target_ = false;    ///< the matcher's target (and model) is target_ as it is
-  bool target_compensated_ = false;      ///< target_ was moved to its reference time (not the first scan)
+  pcl::PointCloud<PointRadar>::Ptr compensated_;  ///< scratch: the source of the last attempt
+  pcl::PointCloud<PointRadar> aligned_;           ///< scratch: the matcher's output (unused; kept to reuse its memory)
 };
 
 }  // namespace radar_ndt

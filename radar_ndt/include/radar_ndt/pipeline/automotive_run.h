@@ -63,8 +63,14 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
                                           const AutomotiveRunOptions& options, MatcherAdapter matcher,
                                           const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
 
-/// The settings a method runs with: Rapp's joint-Doppler NDT keeps moving detections and weights
-/// points by Doppler agreement instead.
+/// `options` set for `method`: the method, and what it needs beyond it: Rapp's Doppler-weighted NDT
+/// weights points by Doppler agreement (odometry.doppler_weights) and so keeps the moving detections
+/// (front_end.remove_moving off); the others neither. validate() refuses options that set the method
+/// without these, naming the field.
 AutomotiveRunOptions withMethod(AutomotiveRunOptions options, Method method);
+
+/// The fusion calibration of the matcher a method builds (AutomotiveOdometry picks the same from
+/// its matcher).
+MatchCalibration matchCalibrationOf(Method method);
 
 }  // namespace radar_ndt

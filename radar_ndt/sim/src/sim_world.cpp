@@ -1,4 +1,4 @@
-// radar_sim, part 1: the trajectory, the materials, the generated world and ray casting.
+// The simulator's world: the materials, the generated city along the trajectory, and ray casting.
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -22,138 +22,6 @@ std::int64_t cellKey(long ix, long iy) {
 }
 
 }  // namespace
-
-// ---- trajectory -------------------------------------------------------------------------------
-
-SimTrajectory::SimTrajectory(const Trajectory& trajectory, double period) {
-  if (trajectory.empty()) throw std::invalid_argument("radar_sim: the trajectory is empty");
-  std::vector<double> stamps;
-  std::vector<Pose2> poses;
-  for (std::size_t k = 0; k < trajectory.size(); ++k) {
-    stamps.push_back(trajectory.hasStamps() ? trajectory.stamps[k] - trajectory.stamps[0] : period * k);
-    poses.push_back(toPose2(trajectory.poses[k]));
-  }
-  *this = SimTrajectory(std::move(stamps), std::move(poses));
-}
-
-SimTrajectory::SimTrajectory(std::vector<double> stamps, std::vector<Pose2> poses)
-    : stamps_(std::move(stamps)), poses_(std::move(poses)) {
-  if (poses_.size() < 2 || stamps_.size() != poses_.size())
-    throw std::invalid_argument("radar_sim: a trajectory needs at least 2 poses with one stamp each");
-  for (std::size_t k = 1; k < stamps_.size(); ++k)
-    if (!(stamps_[k] > stamps_[k - 1])) throw std::invalid_argument("radar_sim: trajectory stamps must increase");
-  arc_.assign(poses_.size(), 0.0);
-  for (std::size_t k = 1; k < poses_.size(); ++k)
-    arc_[k] = arc_[k - 1] + (poses_[k].head<2>() - poses_[k - 1].head<2>()).norm();
-  // Direction of travel at each end: the nearest segment that moves (else the pose's heading).
-  auto direction = [&](std::size_t j) {
-    return std::atan2(poses_[j + 1].y() - poses_[j].y(), poses_[j + 1].x() - poses_[j].x());
-  };
-  start_heading_ = poses_.front().z();
-  end_heading_ = poses_.back().z();
-  for (std::size_t j = 0; j + 1 < poses_.size(); ++j)
-    if (arc_[j + 1] - arc_[j] > 0.05) {
-      start_heading_ = direction(j);
-      break;
-    }
-  for (std::size_t j = poses_.size() - 1; j > 0; --j)
-    if (arc_[j] - arc_[j - 1] > 0.05) {
-      end_heading_ = direction(j - 1);
-      break;
-    }
-}
-
-std::size_t SimTrajectory::segment(double t) const {
-  const auto it = std::upper_bound(stamps_.begin(), stamps_.end(), t);
-  std::size_t k = static_cast<std::size_t>(it - stamps_.begin());
-  k = k == 0 ? 0 : k - 1;
-  return std::min(k, stamps_.size() - 2);
-}
-
-Pose2 SimTrajectory::at(double t) const {
-  t = std::min(std::max(t, stamps_.front()), stamps_.back());
-  const std::size_t k = segment(t);
-  return interpolate(poses_[k], poses_[k + 1], (t - stamps_[k]) / (stamps_[k + 1] - stamps_[k]));
-}
-
-Eigen::Vector3d SimTrajectory::velocity(double t) const {
-  const std::size_t k = segment(std::min(std::max(t, stamps_.front()), stamps_.back()));
-  const double dt = stamps_[k + 1] - stamps_[k];
-  const Pose2 d = between(poses_[k], poses_[k + 1]);
-  const Pose2 here = at(t);
-  // The segment's displacement expressed in the frame at t (a small correction for the heading
-  // turned so far within the segment).
-  const double dyaw = normalizeAngle(here.z() - poses_[k].z());
-  const double c = std::cos(dyaw), s = std::sin(dyaw);
-  return Eigen::Vector3d((c * d.x() + s * d.y()) / dt, (-s * d.x() + c * d.y()) / dt, d.z() / dt);
-}
-
-double SimTrajectory::arcAt(double t) const {
-  t = std::min(std::max(t, stamps_.front()), stamps_.back());
-  const std::size_t k = segment(t);
-  const double u = (t - stamps_[k]) / (stamps_[k + 1] - stamps_[k]);
-  return arc_[k] + u * (arc_[k + 1] - arc_[k]);
-}
-
-Pose2 SimTrajectory::atArc(double s) const {
-  // Beyond the ends: straight on along the first / last direction of travel (the world is
-  // generated a little past both ends of the path).
-  const double extra = s < 0.0 ? s : (s > arc_.back() ? s - arc_.back() : 0.0);
-  s = std::min(std::max(s, 0.0), arc_.back());
-  auto it = std::upper_bound(arc_.begin(), arc_.end(), s);
-  std::size_t k = static_cast<std::size_t>(it - arc_.begin());
-  k = std::min(k == 0 ? 0 : k - 1, arc_.size() - 2);
-  // Standstill segments (zero length) are skipped for the heading: it follows the direction of travel.
-  const double len = arc_[k + 1] - arc_[k];
-  const double u = len > 1e-9 ? (s - arc_[k]) / len : 0.0;
-  const Pose2& a = poses_[k];
-  const Pose2& b = poses_[k + 1];
-  double heading = len > 0.05 ? std::atan2(b.y() - a.y(), b.x() - a.x()) : a.z();
-  if (extra != 0.0) {
-    const Pose2& end = extra < 0.0 ? poses_.front() : poses_.back();
-    const double h = extra < 0.0 ? start_heading_ : end_heading_;
-    return Pose2(end.x() + extra * std::cos(h), end.y() + extra * std::sin(h), h);
-  }
-  return Pose2(a.x() + u * (b.x() - a.x()), a.y() + u * (b.y() - a.y()), heading);
-}
-
-SimTrajectory builtinDrive(double duration, double period) {
-  if (!(duration > period) || !(period > 0))
-    throw std::invalid_argument("radar_sim: the built-in drive needs duration > period > 0");
-  // A repeating 60 s pattern of (seconds, target speed m/s, yaw rate rad/s).
-  struct Phase {
-    double seconds, speed, yaw_rate;
-  };
-  static const Phase kPattern[] = {{6, 8, 0},         {14, 12, 0},   {7, 6, kPi / 14}, {12, 11, 0},
-                                   {6, 5, -kPi / 12}, {5, 10, 0.04}, {4, 0, 0},        {6, 9, 0}};
-  double pattern_length = 0;
-  for (const Phase& p : kPattern) pattern_length += p.seconds;
-  constexpr double kStep = 0.01, kAccel = 2.0;
-  std::vector<double> stamps;
-  std::vector<Pose2> poses;
-  Pose2 pose(0, 0, 0);
-  double v = 0, next = 0;
-  for (double t = 0; t <= duration + 1e-9; t += kStep) {
-    if (t + 1e-9 >= next) {
-      stamps.push_back(next);
-      poses.push_back(pose);
-      next += period;
-    }
-    double u = std::fmod(t, pattern_length);
-    const Phase* phase = &kPattern[0];
-    for (const Phase& p : kPattern) {
-      phase = &p;
-      if (u < p.seconds) break;
-      u -= p.seconds;
-    }
-    v += std::max(-kAccel * kStep, std::min(kAccel * kStep, phase->speed - v));
-    const double w = phase->speed > 0 ? phase->yaw_rate * v / phase->speed : 0.0;
-    pose.x() += v * std::cos(pose.z()) * kStep;
-    pose.y() += v * std::sin(pose.z()) * kStep;
-    pose.z() = normalizeAngle(pose.z() + w * kStep);
-  }
-  return SimTrajectory(std::move(stamps), std::move(poses));
-}
 
 // ---- materials --------------------------------------------------------------------------------
 
@@ -226,167 +94,215 @@ Eigen::Vector2d offsetPoint(const SimTrajectory& path, double s, double lateral)
   return Eigen::Vector2d(p.x() - lateral * std::sin(p.z()), p.y() + lateral * std::cos(p.z()));
 }
 
-}  // namespace
+/// Builds a world along a path from its options' random draws, in a fixed order: the street block
+/// by block and side by side, the rows behind it from their own stream, then the traffic.
+class WorldBuilder {
+ public:
+  WorldBuilder(const SimTrajectory& path, const WorldOptions& o, const PathClearance& clearance)
+      : path_(path),
+        o_(o),
+        clearance_(clearance),
+        rng_(o.seed, 0x5eed),
+        mirror_(o.mirror != 0.0 ? -1.0 : 1.0),
+        length_(path.length()) {}
 
-World World::generate(const SimTrajectory& path, const WorldOptions& o) {
-  World w;
-  w.path_ = &path;
-  if (o.mirror != 0.0 && o.mirror != 1.0)
-    throw std::invalid_argument("radar_sim: the world setting mirror must be 0 or 1");
-  Random rng(o.seed, 0x5eed);
+  void buildStreet() {
+    for (double s0 = -40.0; s0 < length_ + 40.0; s0 += kBlock)
+      for (int kerb : {+1, -1}) buildBlockSide(s0, kerb);
+  }
+  void buildBackRows();
+  void addTraffic();
+
+  std::vector<Segment> segments;
+  std::vector<Circle> circles;
+  std::vector<Mover> movers;
+
+ private:
+  static constexpr double kBlock = 30.0;
+  static constexpr double kClear = 2.2;  // m: nothing closer than this to any part of the path
+
   // Mirrored: every lateral offset and every orientation relative to the path is negated, with the
   // same random draws, so a seed gives the mirror image of its world (exact on a straight path).
-  const double mirror = o.mirror != 0.0 ? -1.0 : 1.0;
-  auto mirroredAngle = [&](double s, double a) { return mirror > 0 ? a : 2.0 * path.atArc(s).z() - a; };
-  w.clearance_ = std::make_shared<const PathClearance>(path);
-  const PathClearance& clearance = *w.clearance_;
-  const double L = path.length();
-  constexpr double kClear = 2.2;  // m: nothing closer than this to any part of the path
-
-  auto clear = [&](const Eigen::Vector2d& p, double need) { return clearance.distance(p) >= need; };
-  auto addSegment = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b, Material m, double need) {
+  double mirroredAngle(double s, double a) const { return mirror_ > 0 ? a : 2.0 * path_.atArc(s).z() - a; }
+  bool clear(const Eigen::Vector2d& p, double need) const { return clearance_.distance(p) >= need; }
+  void addSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, Material m, double need) {
     if ((b - a).norm() < 0.2) return;
     if (!clear(a, need) || !clear(b, need) || !clear(0.5 * (a + b), need)) return;
-    w.segments_.push_back({a, b, m});
-  };
-  auto addBox = [&](const Eigen::Vector2d& c, double heading, double length, double width, Material m) {
+    segments.push_back({a, b, m});
+  }
+  void addBox(const Eigen::Vector2d& c, double heading, double length, double width, Material m) {
     // Mirrored, v flips too: the corners come in mirrored order, so each side keeps its index (and
     // with it its ghost draw).
-    const Eigen::Vector2d u(std::cos(heading), std::sin(heading)), v = mirror * Eigen::Vector2d(-u.y(), u.x());
+    const Eigen::Vector2d u(std::cos(heading), std::sin(heading)), v = mirror_ * Eigen::Vector2d(-u.y(), u.x());
     const Eigen::Vector2d q[4] = {c + 0.5 * length * u + 0.5 * width * v, c - 0.5 * length * u + 0.5 * width * v,
                                   c - 0.5 * length * u - 0.5 * width * v, c + 0.5 * length * u - 0.5 * width * v};
     for (const auto& p : q)
       if (!clear(p, kClear)) return;
-    for (int i = 0; i < 4; ++i) w.segments_.push_back({q[i], q[(i + 1) % 4], m});
-  };
-  auto addCircle = [&](const Eigen::Vector2d& c, double r, Material m, double need) {
+    for (int i = 0; i < 4; ++i) segments.push_back({q[i], q[(i + 1) % 4], m});
+  }
+  void addCircle(const Eigen::Vector2d& c, double r, Material m, double need) {
     if (!clear(c, need + r)) return;
-    w.circles_.push_back({c, r, m});
-  };
+    circles.push_back({c, r, m});
+  }
+  /// A row of 5 m pieces of `m` at lateral offset `off` along the block.
+  void addRow(double s0, double off, Material m) {
+    for (double s = s0; s < s0 + kBlock; s += 5.0)
+      addSegment(offsetPoint(path_, s, off), offsetPoint(path_, s + 5.0, off), m, kClear);
+  }
+  void buildBlockSide(double s0, int kerb);
+  void buildFacade(double s0, double side, double half);
+  void buildOpenLand(double s0, double side, double half);
+  void buildKerb(double s0, int kerb, double side, double half);
 
-  constexpr double kBlock = 30.0;
-  for (double s0 = -40.0; s0 < L + 40.0; s0 += kBlock) {
-    for (int kerb : {+1, -1}) {
-      const double side = mirror * kerb;  // +1: left of the path
-      const double half = rng.uniform(o.road_half_width_min, o.road_half_width_max);
-      const bool facade = rng.chance(o.building_probability);
-      if (facade) {
-        // A facade: segments of 3–9 m with small set-backs, recesses and an occasional gap.
-        const double setback = half + rng.uniform(1.5, 7.0);
-        double s = s0;
-        while (s < s0 + kBlock) {
-          const double len = rng.uniform(3.0, 9.0);
-          const double e = std::min(s + len, s0 + kBlock);
-          if (!rng.chance(o.facade_gap_probability)) {
-            const double off = side * (setback + rng.uniform(-0.4, 0.4));
-            addSegment(offsetPoint(path, s, off), offsetPoint(path, e, off), Material::Building, kClear);
-            // Building returns come from deeper inside too (walls behind the facade, corners).
-            if (rng.chance(0.3)) {
-              const double back = off + side * rng.uniform(4.0, 15.0);
-              addSegment(offsetPoint(path, s, back), offsetPoint(path, e, back), Material::Building, kClear);
-            }
-          }
-          s = e;
-        }
-      } else {
-        if (rng.chance(o.fence_probability)) {
-          const double off = side * (half + 1.0);
-          for (double s = s0; s < s0 + kBlock; s += 5.0)
-            addSegment(offsetPoint(path, s, off), offsetPoint(path, s + 5.0, off), Material::Fence, kClear);
-        } else if (rng.chance(o.hedge_probability)) {
-          const double off = side * (half + 1.5);
-          for (double s = s0; s < s0 + kBlock; s += 5.0)
-            addSegment(offsetPoint(path, s, off), offsetPoint(path, s + 5.0, off), Material::Hedge, kClear);
-        } else if (rng.chance(0.4)) {
-          const double off = side * (half + 0.3);
-          for (double s = s0; s < s0 + kBlock; s += 5.0)
-            addSegment(offsetPoint(path, s, off), offsetPoint(path, s + 5.0, off), Material::Wall, kClear);
-        }
-        // Open land: scattered distant buildings, bushes and trees.
-        // Open land: scattered distant buildings, bushes and trees, cars in car parks.
-        const int n = rng.poisson(o.open_land_objects);
-        for (int i = 0; i < n; ++i) {
-          const double s = s0 + rng.uniform(0, kBlock), off = side * (half + rng.uniform(6.0, 60.0));
-          const Eigen::Vector2d c = offsetPoint(path, s, off);
-          const double a = mirroredAngle(s, rng.uniform(0, 2 * kPi)), kind = rng.uniform();
-          if (kind < 0.35) {
-            const double len = rng.uniform(4.0, 14.0);
-            const Eigen::Vector2d d(std::cos(a) * len / 2, std::sin(a) * len / 2);
-            addSegment(c - d, c + d, Material::Building, kClear);
-          } else if (kind < 0.7) {
-            addCircle(c, rng.uniform(1.0, 3.5), rng.chance(0.5) ? Material::Crown : Material::Hedge, kClear);
-          } else {
-            addBox(c, a, rng.uniform(3.9, 4.9), rng.uniform(1.7, 1.95), Material::Car);
-          }
-        }
-      }
-      // Parked cars along the kerb (on the oncoming side only where the road is wide).
-      if (kerb > 0 || half > 6.2) {
-        for (double s = s0; s < s0 + kBlock; s += 6.0) {
-          if (!rng.chance(o.parked_car_probability)) continue;
-          const Pose2 p = path.atArc(s + 3.0);
-          const Eigen::Vector2d c = offsetPoint(path, s + 3.0, side * (half - 1.0));
-          addBox(c, p.z() + mirror * rng.uniform(-0.05, 0.05), rng.uniform(3.9, 4.9), rng.uniform(1.7, 1.95),
-                 Material::Car);
-        }
-      }
-      // Poles (lamp posts, signs) and street trees.
-      for (double s = s0 + rng.exponential(o.pole_spacing); s < s0 + kBlock; s += rng.exponential(o.pole_spacing))
-        addCircle(offsetPoint(path, s, side * (half + 0.6)), 0.12, Material::Pole, kClear);
-      for (double s = s0; s < s0 + kBlock; s += 12.0) {
-        if (!rng.chance(o.tree_probability)) continue;
-        const Eigen::Vector2d c = offsetPoint(path, s + rng.uniform(0, 12.0), side * (half + rng.uniform(1.8, 3.0)));
-        addCircle(c, 0.2, Material::Trunk, kClear);
-        if (clear(c, 0.0)) w.circles_.push_back({c, rng.uniform(1.2, 2.5), Material::Crown});
+  const SimTrajectory& path_;
+  const WorldOptions& o_;
+  const PathClearance& clearance_;
+  Random rng_;
+  const double mirror_;
+  const double length_;
+};
+
+void WorldBuilder::buildBlockSide(double s0, int kerb) {
+  const double side = mirror_ * kerb;  // +1: left of the path
+  const double half = rng_.uniform(o_.road_half_width_min, o_.road_half_width_max);
+  if (rng_.chance(o_.building_probability))
+    buildFacade(s0, side, half);
+  else
+    buildOpenLand(s0, side, half);
+  buildKerb(s0, kerb, side, half);
+}
+
+void WorldBuilder::buildFacade(double s0, double side, double half) {
+  // A facade: segments of 3–9 m with small set-backs, recesses and an occasional gap.
+  const double setback = half + rng_.uniform(1.5, 7.0);
+  double s = s0;
+  while (s < s0 + kBlock) {
+    const double len = rng_.uniform(3.0, 9.0);
+    const double e = std::min(s + len, s0 + kBlock);
+    if (!rng_.chance(o_.facade_gap_probability)) {
+      const double off = side * (setback + rng_.uniform(-0.4, 0.4));
+      addSegment(offsetPoint(path_, s, off), offsetPoint(path_, e, off), Material::Building, kClear);
+      // Building returns come from deeper inside too (walls behind the facade, corners).
+      if (rng_.chance(0.3)) {
+        const double back = off + side * rng_.uniform(4.0, 15.0);
+        addSegment(offsetPoint(path_, s, back), offsetPoint(path_, e, back), Material::Building, kClear);
       }
     }
+    s = e;
   }
+}
 
+void WorldBuilder::buildOpenLand(double s0, double side, double half) {
+  if (rng_.chance(o_.fence_probability))
+    addRow(s0, side * (half + 1.0), Material::Fence);
+  else if (rng_.chance(o_.hedge_probability))
+    addRow(s0, side * (half + 1.5), Material::Hedge);
+  else if (rng_.chance(0.4))
+    addRow(s0, side * (half + 0.3), Material::Wall);
+  // Open land: scattered distant buildings, bushes and trees, cars in car parks.
+  const int n = rng_.poisson(o_.open_land_objects);
+  for (int i = 0; i < n; ++i) {
+    const double s = s0 + rng_.uniform(0, kBlock), off = side * (half + rng_.uniform(6.0, 60.0));
+    const Eigen::Vector2d c = offsetPoint(path_, s, off);
+    const double a = mirroredAngle(s, rng_.uniform(0, 2 * kPi)), kind = rng_.uniform();
+    if (kind < 0.35) {
+      const double len = rng_.uniform(4.0, 14.0);
+      const Eigen::Vector2d d(std::cos(a) * len / 2, std::sin(a) * len / 2);
+      addSegment(c - d, c + d, Material::Building, kClear);
+    } else if (kind < 0.7) {
+      addCircle(c, rng_.uniform(1.0, 3.5), rng_.chance(0.5) ? Material::Crown : Material::Hedge, kClear);
+    } else {
+      addBox(c, a, rng_.uniform(3.9, 4.9), rng_.uniform(1.7, 1.95), Material::Car);
+    }
+  }
+}
+
+void WorldBuilder::buildKerb(double s0, int kerb, double side, double half) {
+  // Parked cars along the kerb (on the oncoming side only where the road is wide).
+  if (kerb > 0 || half > 6.2) {
+    for (double s = s0; s < s0 + kBlock; s += 6.0) {
+      if (!rng_.chance(o_.parked_car_probability)) continue;
+      const Pose2 p = path_.atArc(s + 3.0);
+      const Eigen::Vector2d c = offsetPoint(path_, s + 3.0, side * (half - 1.0));
+      addBox(c, p.z() + mirror_ * rng_.uniform(-0.05, 0.05), rng_.uniform(3.9, 4.9), rng_.uniform(1.7, 1.95),
+             Material::Car);
+    }
+  }
+  // Poles (lamp posts, signs) and street trees.
+  for (double s = s0 + rng_.exponential(o_.pole_spacing); s < s0 + kBlock; s += rng_.exponential(o_.pole_spacing))
+    addCircle(offsetPoint(path_, s, side * (half + 0.6)), 0.12, Material::Pole, kClear);
+  for (double s = s0; s < s0 + kBlock; s += 12.0) {
+    if (!rng_.chance(o_.tree_probability)) continue;
+    const Eigen::Vector2d c = offsetPoint(path_, s + rng_.uniform(0, 12.0), side * (half + rng_.uniform(1.8, 3.0)));
+    addCircle(c, 0.2, Material::Trunk, kClear);
+    if (clear(c, 0.0)) circles.push_back({c, rng_.uniform(1.2, 2.5), Material::Crown});
+  }
+}
+
+void WorldBuilder::buildBackRows() {
   // Rows of buildings behind the street's facades, from their own stream (the street's draws stay).
-  if (o.back_rows > 0) {
-    Random back(o.seed, 0xbac4000000000000ULL);
-    const int rows = static_cast<int>(std::lround(o.back_rows));
-    for (int kerb : {+1, -1}) {
-      const double side = mirror * kerb;
-      for (int row = 1; row <= rows; ++row) {
-        for (double s = -40.0; s < L + 40.0;) {
-          const double len = back.uniform(5.0, 20.0);
-          const double off = side * (o.road_half_width_max + 7.0 + row * o.back_row_spacing * back.uniform(0.7, 1.3));
-          if (!back.chance(o.back_row_gap_probability))
-            addSegment(offsetPoint(path, s, off), offsetPoint(path, s + len, off), Material::Building, kClear + 6.0);
-          s += len;
-        }
+  if (!(o_.back_rows > 0)) return;
+  Random back(o_.seed, 0xbac4000000000000ULL);
+  const int rows = static_cast<int>(std::lround(o_.back_rows));
+  for (int kerb : {+1, -1}) {
+    const double side = mirror_ * kerb;
+    for (int row = 1; row <= rows; ++row) {
+      for (double s = -40.0; s < length_ + 40.0;) {
+        const double len = back.uniform(5.0, 20.0);
+        const double off = side * (o_.road_half_width_max + 7.0 + row * o_.back_row_spacing * back.uniform(0.7, 1.3));
+        if (!back.chance(o_.back_row_gap_probability))
+          addSegment(offsetPoint(path_, s, off), offsetPoint(path_, s + len, off), Material::Building, kClear + 6.0);
+        s += len;
       }
     }
   }
+}
 
+void WorldBuilder::addTraffic() {
   // Moving traffic: oncoming cars and buses in the opposite lane, and lead vehicles ahead of the ego.
-  const double duration = path.endTime() - path.startTime();
-  const int movers = static_cast<int>(std::lround(o.movers_per_km * L / 1000.0));
-  for (int i = 0; i < movers; ++i) {
+  const double duration = path_.endTime() - path_.startTime();
+  const int count = static_cast<int>(std::lround(o_.movers_per_km * length_ / 1000.0));
+  for (int i = 0; i < count; ++i) {
     Mover m;
-    const bool bus = rng.chance(o.bus_share);
+    const bool bus = rng_.chance(o_.bus_share);
     m.material = bus ? Material::Bus : Material::Car;
-    m.length = bus ? rng.uniform(10.0, 12.5) : rng.uniform(4.0, 4.9);
-    m.width = bus ? 2.55 : rng.uniform(1.7, 1.95);
-    m.follows_ego = rng.chance(0.25);
+    m.length = bus ? rng_.uniform(10.0, 12.5) : rng_.uniform(4.0, 4.9);
+    m.width = bus ? 2.55 : rng_.uniform(1.7, 1.95);
+    m.follows_ego = rng_.chance(0.25);
     if (m.follows_ego) {
-      m.s0 = rng.uniform(12.0, 40.0);
+      m.s0 = rng_.uniform(12.0, 40.0);
       m.speed = 0.0;
       m.lateral = 0.0;
-      m.t_start = path.startTime() + rng.uniform(0.0, duration);
-      m.t_end = m.t_start + rng.uniform(10.0, 60.0);
+      m.t_start = path_.startTime() + rng_.uniform(0.0, duration);
+      m.t_end = m.t_start + rng_.uniform(10.0, 60.0);
     } else {
-      m.speed = -rng.uniform(5.0, 13.0);
-      m.lateral = -3.2 * mirror;
-      m.t_start = path.startTime() + rng.uniform(-60.0, duration);
+      m.speed = -rng_.uniform(5.0, 13.0);
+      m.lateral = -3.2 * mirror_;
+      m.t_start = path_.startTime() + rng_.uniform(-60.0, duration);
       m.t_end = m.t_start + 120.0;
       // Placed so that it meets the ego somewhere in its life.
-      const double t_meet = std::min(std::max(m.t_start + rng.uniform(10.0, 60.0), path.startTime()), path.endTime());
-      m.s0 = path.arcAt(t_meet) - m.speed * t_meet;
+      const double t_meet =
+          std::min(std::max(m.t_start + rng_.uniform(10.0, 60.0), path_.startTime()), path_.endTime());
+      m.s0 = path_.arcAt(t_meet) - m.speed * t_meet;
     }
-    w.movers_.push_back(m);
+    movers.push_back(m);
   }
+}
+
+}  // namespace
+
+World World::generate(const SimTrajectory& path, const WorldOptions& o) {
+  o.validate();
+  World w;
+  w.path_ = &path;
+  w.clearance_ = std::make_shared<const PathClearance>(path);
+  WorldBuilder builder(path, o, *w.clearance_);
+  builder.buildStreet();
+  builder.buildBackRows();
+  builder.addTraffic();
+  w.segments_ = std::move(builder.segments);
+  w.circles_ = std::move(builder.circles);
+  w.movers_ = std::move(builder.movers);
   w.index();
   return w;
 }
@@ -454,23 +370,24 @@ std::vector<int> World::activeMovers(const Eigen::Vector2d& centre, double radiu
   return out;
 }
 
-void World::cast(const Eigen::Vector2d& o, double angle, double t, double max_range, const std::vector<int>& movers,
-                 std::vector<Hit>& hits) const {
-  hits.clear();
-  const Eigen::Vector2d d(std::cos(angle), std::sin(angle));
-  double nearest_opaque = max_range;
-  if (++ray_id_ == 0) {
-    std::fill(mailbox_.begin(), mailbox_.end(), 0);
-    ray_id_ = 1;
-  }
-  auto consider = [&](double range, double cos_inc, Material m, double depth, const Eigen::Vector2d& vel,
-                      const Eigen::Vector2d& normal, std::uint32_t id) {
+namespace {
+
+/// One ray's hits: each primitive tested against the ray, kept when nearer than the first opaque
+/// surface found so far.
+struct RayHits {
+  const Eigen::Vector2d& o;
+  const Eigen::Vector2d d;
+  double nearest_opaque;
+  std::vector<Hit>& hits;
+
+  void consider(double range, double cos_inc, Material m, double depth, const Eigen::Vector2d& vel,
+                const Eigen::Vector2d& normal, std::uint32_t id) {
     if (range <= 1e-6 || range > nearest_opaque) return;
     hits.push_back({range, cos_inc, m, depth, vel, normal, id});
     if (materialModel(m).transmission <= 0.0) nearest_opaque = range;
-  };
-  auto testSegment = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b, Material m, const Eigen::Vector2d& vel,
-                         std::uint32_t id) {
+  }
+  void testSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, Material m, const Eigen::Vector2d& vel,
+                   std::uint32_t id) {
     const Eigen::Vector2d e = b - a;
     const double denom = cross(d, e);
     if (std::abs(denom) < 1e-12) return;
@@ -481,8 +398,8 @@ void World::cast(const Eigen::Vector2d& o, double angle, double t, double max_ra
     Eigen::Vector2d n(-e.y() / len, e.x() / len);
     if (n.dot(d) > 0) n = -n;
     consider(tt, std::abs(denom) / len, m, materialModel(m).depth, vel, n, id);
-  };
-  auto testCircle = [&](const Circle& c, std::uint32_t id) {
+  }
+  void testCircle(const Circle& c, std::uint32_t id) {
     const Eigen::Vector2d f = o - c.c;
     const double b = f.dot(d), cc = f.squaredNorm() - c.r * c.r, disc = b * b - cc;
     if (disc <= 0.0 || cc <= 0.0) return;  // missed, or the origin is inside
@@ -490,9 +407,49 @@ void World::cast(const Eigen::Vector2d& o, double angle, double t, double max_ra
     if (tt <= 0.0) return;
     const double depth = std::min(materialModel(c.material).depth, 2.0 * root);
     consider(tt, 1.0, c.material, depth, Eigen::Vector2d::Zero(), (o + tt * d - c.c) / c.r, id);
-  };
+  }
+  /// Nearest first, ending at the first opaque one.
+  void finish() {
+    std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.range < b.range; });
+    std::size_t keep = 0;
+    while (keep < hits.size()) {
+      if (materialModel(hits[keep++].material).transmission <= 0.0) break;
+    }
+    hits.resize(keep);
+  }
+};
 
-  // Amanatides–Woo traversal of the grid cells along the ray.
+}  // namespace
+
+void World::cast(const Eigen::Vector2d& o, double angle, double t, double max_range, const std::vector<int>& movers,
+                 std::vector<Hit>& hits) const {
+  hits.clear();
+  if (++ray_id_ == 0) {
+    std::fill(mailbox_.begin(), mailbox_.end(), 0);
+    ray_id_ = 1;
+  }
+  RayHits ray{o, Eigen::Vector2d(std::cos(angle), std::sin(angle)), max_range, hits};
+  castStatic(ray);
+  for (int i : movers) {
+    const Mover& m = movers_[i];
+    Pose2 p;
+    Eigen::Vector2d v;
+    moverState(m, t, p, v);
+    const Eigen::Vector2d c = p.head<2>(), u(std::cos(p.z()), std::sin(p.z())), n(-u.y(), u.x());
+    const Eigen::Vector2d q[4] = {
+        c + 0.5 * m.length * u + 0.5 * m.width * n, c - 0.5 * m.length * u + 0.5 * m.width * n,
+        c - 0.5 * m.length * u - 0.5 * m.width * n, c + 0.5 * m.length * u - 0.5 * m.width * n};
+    for (int k = 0; k < 4; ++k)
+      ray.testSegment(q[k], q[(k + 1) % 4], m.material, v, kMoverBit | static_cast<std::uint32_t>(i));
+  }
+  ray.finish();
+}
+
+template <typename Ray>
+void World::castStatic(Ray& ray) const {
+  // Amanatides–Woo traversal of the grid cells along the ray, each primitive tested once (mailbox).
+  const Eigen::Vector2d& o = ray.o;
+  const Eigen::Vector2d& d = ray.d;
   long ix = static_cast<long>(std::floor(o.x() / cell_)), iy = static_cast<long>(std::floor(o.y() / cell_));
   const int step_x = d.x() >= 0 ? 1 : -1, step_y = d.y() >= 0 ? 1 : -1;
   const double inv_x = std::abs(d.x()) > 1e-12 ? 1.0 / std::abs(d.x()) : 1e30;
@@ -501,7 +458,7 @@ void World::cast(const Eigen::Vector2d& o, double angle, double t, double max_ra
   double next_y = ((step_y > 0 ? (iy + 1) * cell_ : iy * cell_) - o.y()) * step_y * inv_y;
   double entry = 0.0;
   const std::size_t nseg = segments_.size();
-  while (entry <= nearest_opaque) {
+  while (entry <= ray.nearest_opaque) {
     const std::int64_t key = cellKey(ix, iy);
     auto it = std::lower_bound(cell_items_.begin(), cell_items_.end(), std::make_pair(key, std::uint32_t{0}));
     for (; it != cell_items_.end() && it->first == key; ++it) {
@@ -509,9 +466,9 @@ void World::cast(const Eigen::Vector2d& o, double angle, double t, double max_ra
       if (mailbox_[id] == ray_id_) continue;
       mailbox_[id] = ray_id_;
       if (id < nseg)
-        testSegment(segments_[id].a, segments_[id].b, segments_[id].material, Eigen::Vector2d::Zero(), id);
+        ray.testSegment(segments_[id].a, segments_[id].b, segments_[id].material, Eigen::Vector2d::Zero(), id);
       else
-        testCircle(circles_[id - nseg], id);
+        ray.testCircle(circles_[id - nseg], id);
     }
     if (next_x < next_y) {
       entry = next_x;
@@ -523,24 +480,6 @@ void World::cast(const Eigen::Vector2d& o, double angle, double t, double max_ra
       iy += step_y;
     }
   }
-  for (int i : movers) {
-    const Mover& m = movers_[i];
-    Pose2 p;
-    Eigen::Vector2d v;
-    moverState(m, t, p, v);
-    const Eigen::Vector2d c = p.head<2>(), u(std::cos(p.z()), std::sin(p.z())), n(-u.y(), u.x());
-    const Eigen::Vector2d q[4] = {
-        c + 0.5 * m.length * u + 0.5 * m.width * n, c - 0.5 * m.length * u + 0.5 * m.width * n,
-        c - 0.5 * m.length * u - 0.5 * m.width * n, c + 0.5 * m.length * u - 0.5 * m.width * n};
-    for (int k = 0; k < 4; ++k)
-      testSegment(q[k], q[(k + 1) % 4], m.material, v, kMoverBit | static_cast<std::uint32_t>(i));
-  }
-  std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.range < b.range; });
-  std::size_t keep = 0;
-  while (keep < hits.size()) {
-    if (materialModel(hits[keep++].material).transmission <= 0.0) break;
-  }
-  hits.resize(keep);
 }
 
 }  // namespace sim

@@ -89,6 +89,7 @@ void sampleScan(const std::vector<Segment>& world, const Pose2& pose, const Synt
 }  // namespace
 
 SyntheticScanPair makeSyntheticScanPair(const SyntheticScanOptions& o) {
+  o.validate();
   std::mt19937 rng(o.seed);
   const std::vector<Segment> world = makeWorld(o, rng);
   std::uniform_real_distribution<double> U01(0, 1);

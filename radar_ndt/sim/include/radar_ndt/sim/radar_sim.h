@@ -99,6 +99,9 @@ struct WorldOptions {
   double back_rows = 0.0;
   double back_row_spacing = 20.0;
   double back_row_gap_probability = 0.4;
+  /// Throws std::invalid_argument naming the first setting out of range (probabilities in [0, 1],
+  /// sizes positive, mirror 0 or 1).
+  void validate() const;
 };
 
 struct Segment {
@@ -163,6 +166,9 @@ class World {
 
  private:
   void index();
+  /// The static primitives along a cast's ray (the grid traversal); `Ray` tests and keeps hits.
+  template <typename Ray>
+  void castStatic(Ray& ray) const;
   const SimTrajectory* path_ = nullptr;
   std::shared_ptr<const PathClearance> clearance_;
   std::vector<Segment> segments_;
@@ -249,6 +255,9 @@ struct ScanningOptions {
   double scatterer_clearance = 6.0;
   /// Scales every material's return depth (the range over which a surface returns).
   double depth_scale = 0.2;
+  /// Throws std::invalid_argument naming the first setting out of range (sizes and lengths
+  /// positive, probabilities in [0, 1], levels finite, display_compression in (0, 1]).
+  void validate() const;
 };
 
 /// Sensor profiles: the scanning settings (and the kind of world) that make simulated scans look
@@ -282,6 +291,8 @@ struct AutomotiveOptions {
   double rcs_sigma_db = 3.0;
   double doppler_sigma = 0.1;       ///< m/s
   double ghost_probability = 0.05;  ///< per detection on a vehicle: a mirrored multipath ghost
+  /// Throws std::invalid_argument naming the first setting out of range.
+  void validate() const;
 };
 
 struct SequenceOptions {
@@ -291,6 +302,8 @@ struct SequenceOptions {
   int png_compression = 1;                         ///< zlib level of the scan PNGs (fast)
   bool progress = false;                           ///< a progress line on stderr
   std::string scene_name = "sim-0001";             ///< automotive: the scene's name in scene.json
+  /// Throws std::invalid_argument naming the first setting out of range.
+  void validate() const;
 };
 
 /// One scan at time `t` (s, trajectory time) rendered into `scan` (Oxford conventions).

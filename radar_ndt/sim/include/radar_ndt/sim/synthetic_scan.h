@@ -22,6 +22,8 @@ struct SyntheticScanOptions {
   double max_translation = 2.0;    ///< |t| of the true transform up to this (m), uniform direction
   double max_rotation_deg = 3.0;   ///< |yaw| up to this
   std::uint32_t seed = 1;
+  /// Throws std::invalid_argument naming the first setting out of range.
+  void validate() const;
 };
 
 struct SyntheticScanPair {

@@ -1,0 +1,128 @@
+// The simulator's Oxford-layout output: a scanning sequence rendered scan by scan (renderScan) and
+// written as the dataset lays it out, with its ground truth.
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <future>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include "radar_ndt/io/atomic_file.h"
+#include "radar_ndt/io/io_error.h"
+#include "radar_ndt/io/oxford_ground_truth.h"
+#include "radar_ndt/io/oxford_scan.h"
+#include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/sim/radar_sim.h"
+#include "sim_common.h"
+
+namespace radar_ndt {
+namespace sim {
+namespace fs = std::filesystem;
+using detail::toMicros;
+
+namespace {
+
+/// The sequence's ground truth as it is written: the Oxford CSV's rows and the KITTI poses.
+struct GroundTruthWriter {
+  std::vector<OxfordStamp> stamps;
+  std::vector<OxfordRelativePose> rows;
+  std::ostringstream poses;
+  Pose2 first = Pose2::Zero(), previous = Pose2::Zero();
+  std::int64_t previous_stamp = 0;
+
+  GroundTruthWriter() { poses << std::setprecision(9); }
+
+  /// Scan k at `stamp` with the vehicle at `pose`.
+  void add(std::size_t k, std::int64_t stamp, const Pose2& pose, double sweep_period) {
+    stamps.push_back({stamp, true});
+    if (k == 0) first = pose;
+    const Pose2 rel = between(first, pose);
+    const double c = std::cos(rel.z()), s = std::sin(rel.z());
+    poses << c << ' ' << -s << " 0 " << rel.x() << ' ' << s << ' ' << c << " 0 " << rel.y() << " 0 0 1 0\n";
+    if (k > 0) {
+      const Pose2 d = between(previous, pose);  // the later scan in the earlier one's frame
+      // As the dataset writes them: source/destination_timestamp half a sweep after the scans'
+      // radar timestamps (its poses are mid-sweep), the radar timestamps in their own columns.
+      const std::int64_t half_sweep = toMicros(0.5 * sweep_period);
+      OxfordRelativePose row;
+      row.source = stamp + half_sweep;
+      row.destination = previous_stamp + half_sweep;
+      row.x = d.x();
+      row.y = -d.y();  // Oxford axes: y right, z down
+      row.yaw = -d.z();
+      row.source_radar = stamp;
+      row.destination_radar = previous_stamp;
+      rows.push_back(row);
+    }
+    previous = pose;
+    previous_stamp = stamp;
+  }
+
+  void write(const std::string& dir) const {
+    writeOxfordTimestamps((fs::path(dir) / "radar.timestamps").string(), stamps);
+    writeOxfordRadarOdometry((fs::path(dir) / "gt" / "radar_odometry.csv").string(), rows);
+    writeFileAtomically((fs::path(dir) / "gt" / "poses.txt").string(), poses.str());
+  }
+};
+
+/// The frames to write from `sequence.start`, at least 2; the output folders created.
+std::size_t prepareScanningOutput(const std::string& dir, const SimTrajectory& ego, const SequenceOptions& sequence) {
+  if (sequence.start >= ego.size()) throw std::invalid_argument("radar_sim: --start is past the trajectory's end");
+  const std::size_t available = ego.size() - sequence.start;
+  const std::size_t frames = sequence.frames == 0 ? available : std::min(sequence.frames, available);
+  if (frames < 2) throw std::invalid_argument("radar_sim: a sequence needs at least 2 frames");
+  std::error_code ec;
+  fs::create_directories(fs::path(dir) / "radar", ec);
+  fs::create_directories(fs::path(dir) / "gt", ec);
+  if (ec) throw IoError(dir, "cannot create the output directories: " + ec.message());
+  return frames;
+}
+
+}  // namespace
+
+SequenceSummary writeScanningSequence(const std::string& dir, const SimTrajectory& ego,
+                                      const WorldOptions& world_options, const ScanningOptions& options,
+                                      const SequenceOptions& sequence) {
+  const auto wall = std::chrono::steady_clock::now();
+  world_options.validate();
+  options.validate();
+  sequence.validate();
+  const std::size_t frames = prepareScanningOutput(dir, ego, sequence);
+  const World world = World::generate(ego, world_options);
+  const double t0 = ego.stamps()[sequence.start];
+  GroundTruthWriter truth;
+  // Two buffers: scan k is encoded and written on a second thread while scan k+1 is rendered.
+  PolarScan buffers[2];
+  std::future<void> writing;
+  const OxfordPolarOptions oxford;
+  for (std::size_t k = 0; k < frames; ++k) {
+    const double t = ego.stamps()[sequence.start + k];
+    PolarScan& scan = buffers[k % 2];
+    renderScan(world, ego, t, world_options.seed, k, options, scan);
+    const std::int64_t stamp = sequence.start_stamp_us + toMicros(t - t0);
+    const std::int64_t base = toMicros(t);
+    for (auto& s : scan.stamp_us) s = stamp + (s - base);
+    scan.stamp = stamp;
+    if (writing.valid()) writing.get();  // rethrows a failed write
+    writing = std::async(
+        std::launch::async,
+        [&scan, &oxford, &sequence, path = (fs::path(dir) / "radar" / (std::to_string(stamp) + ".png")).string()] {
+          writeOxfordPolarPng(path, scan, oxford, sequence.png_compression);
+        });
+    truth.add(k, stamp, ego.at(t), options.sweep_period);
+    detail::progressLine(sequence.progress, "radar_sim: scan", k, frames);
+  }
+  if (writing.valid()) writing.get();
+  truth.write(dir);
+
+  SequenceSummary summary;
+  summary.frames = frames;
+  summary.duration = ego.stamps()[sequence.start + frames - 1] - t0;
+  summary.distance = ego.arcAt(t0 + summary.duration) - ego.arcAt(t0);
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
+  return summary;
+}
+
+}  // namespace sim
+}  // namespace radar_ndt

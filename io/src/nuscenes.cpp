@@ -202,39 +202,41 @@ std::string findTableDirectory(const std::string& dataroot, const std::string& v
   return candidates.front();
 }
 
-}  // namespace
+/// A radar's calibration: its channel index and its pose on the vehicle.
+struct Calibration {
+  int channel;
+  Eigen::Isometry3d pose;
+};
 
-NuScenesDataset::NuScenesDataset(const std::string& dataroot, const std::string& version)
-    : dataroot_(dataroot), table_dir_(findTableDirectory(dataroot, version)) {
-  const Table sensor(table_dir_, "sensor"), calibrated(table_dir_, "calibrated_sensor"),
-      sample_data(table_dir_, "sample_data"), ego_pose(table_dir_, "ego_pose"), sample(table_dir_, "sample"),
-      scene(table_dir_, "scene"), log(table_dir_, "log");
-
+/// The radar sensors' tokens with their channel index; `channels` gets their names in table order.
+std::unordered_map<std::string, int> radarSensors(const Table& sensor, std::vector<std::string>& channels) {
   std::unordered_map<std::string, int> radar_sensor;  // sensor token → radar channel index
   for (std::size_t i = 0; i < sensor.size(); ++i) {
     if (sensor.str(i, "modality") != "radar") continue;
-    radar_sensor[sensor.str(i, "token")] = static_cast<int>(radar_channels_.size());
-    radar_channels_.push_back(sensor.str(i, "channel"));
+    radar_sensor[sensor.str(i, "token")] = static_cast<int>(channels.size());
+    channels.push_back(sensor.str(i, "channel"));
   }
-  if (radar_channels_.size() > 65535) throw IoError(sensor.file(), "more than 65535 radar channels");
+  if (channels.size() > 65535) throw IoError(sensor.file(), "more than 65535 radar channels");
+  return radar_sensor;
+}
 
-  struct Calibration {
-    int channel;
-    Eigen::Isometry3d pose;
-  };
+/// The radars' calibrations by calibrated_sensor token (cameras and lidars left out).
+std::unordered_map<std::string, Calibration> radarCalibrations(const Table& calibrated,
+                                                               const std::unordered_map<std::string, int>& radars) {
   std::unordered_map<std::string, Calibration> calibration;
   for (std::size_t i = 0; i < calibrated.size(); ++i) {
-    const auto it = radar_sensor.find(calibrated.str(i, "sensor_token"));
-    if (it == radar_sensor.end()) continue;  // a camera or lidar
+    const auto it = radars.find(calibrated.str(i, "sensor_token"));
+    if (it == radars.end()) continue;  // a camera or lidar
     calibration[calibrated.str(i, "token")] = {it->second, calibrated.pose(i)};
   }
-  std::unordered_map<std::string, std::size_t> ego_row;
-  for (std::size_t i = 0; i < ego_pose.size(); ++i) ego_row[ego_pose.str(i, "token")] = i;
-  std::unordered_map<std::string, std::string> sample_scene;
-  for (std::size_t i = 0; i < sample.size(); ++i) sample_scene[sample.str(i, "token")] = sample.str(i, "scene_token");
+  return calibration;
+}
+
+/// The scenes, each with a log that log.json holds.
+std::vector<NuScenesScene> readScenes(const Table& scene, const Table& log) {
   std::unordered_map<std::string, bool> logs;
   for (std::size_t i = 0; i < log.size(); ++i) logs[log.str(i, "token")] = true;
-
+  std::vector<NuScenesScene> scenes;
   for (std::size_t i = 0; i < scene.size(); ++i) {
     NuScenesScene s;
     s.token = scene.str(i, "token");
@@ -244,8 +246,48 @@ NuScenesDataset::NuScenesDataset(const std::string& dataroot, const std::string&
     s.description = d.is_string() ? d.get<std::string>() : "";
     if (!logs.count(s.log_token))
       throw IoError(scene.file(), "row " + std::to_string(i) + ": log_token '" + s.log_token + "' is not in log.json");
-    scenes_.push_back(s);
+    scenes.push_back(s);
   }
+  return scenes;
+}
+
+/// Row i's filename under the dataroot: a table may not point the reader at other files.
+std::string sweepPath(const Table& sample_data, std::size_t i, const std::string& dataroot) {
+  const std::string filename = sample_data.str(i, "filename");
+  if (filename.empty()) throw IoError(sample_data.file(), "row " + std::to_string(i) + ": empty filename");
+  const fs::path relative(filename);
+  bool leaves = relative.has_root_name() || relative.has_root_directory() || filename.find('\0') != std::string::npos;
+  for (const auto& part : relative)
+    if (part == "..") leaves = true;
+  if (leaves)
+    throw IoError(sample_data.file(), "row " + std::to_string(i) + ": filename '" + filename +
+                                          "' leaves the dataroot (an absolute path or '..'); sweeps must lie under it");
+  return (fs::path(dataroot) / relative).string();
+}
+
+/// Looks `token` up in `index`, an IoError naming the row and the table it should be in otherwise.
+template <typename Map>
+typename Map::const_iterator lookUp(const Map& index, const std::string& token, const Table& table, std::size_t row,
+                                    const char* column, const char* in) {
+  const auto it = index.find(token);
+  if (it == index.end())
+    throw IoError(table.file(), "row " + std::to_string(row) + ": " + column + " '" + token + "' is not in " + in);
+  return it;
+}
+
+}  // namespace
+
+NuScenesDataset::NuScenesDataset(const std::string& dataroot, const std::string& version)
+    : dataroot_(dataroot), table_dir_(findTableDirectory(dataroot, version)) {
+  const Table sensor(table_dir_, "sensor"), calibrated(table_dir_, "calibrated_sensor"),
+      sample_data(table_dir_, "sample_data"), ego_pose(table_dir_, "ego_pose"), sample(table_dir_, "sample"),
+      scene(table_dir_, "scene"), log(table_dir_, "log");
+  const auto calibration = radarCalibrations(calibrated, radarSensors(sensor, radar_channels_));
+  std::unordered_map<std::string, std::size_t> ego_row;
+  for (std::size_t i = 0; i < ego_pose.size(); ++i) ego_row[ego_pose.str(i, "token")] = i;
+  std::unordered_map<std::string, std::string> sample_scene;
+  for (std::size_t i = 0; i < sample.size(); ++i) sample_scene[sample.str(i, "token")] = sample.str(i, "scene_token");
+  scenes_ = readScenes(scene, log);
 
   for (std::size_t i = 0; i < sample_data.size(); ++i) {
     const auto cal = calibration.find(sample_data.str(i, "calibrated_sensor_token"));
@@ -256,32 +298,19 @@ NuScenesDataset::NuScenesDataset(const std::string& dataroot, const std::string&
     s.channel = radar_channels_[s.channel_index];
     s.timestamp_us = sample_data.integer(i, "timestamp");
     s.is_key_frame = sample_data.boolean(i, "is_key_frame", false);
-    const std::string filename = sample_data.str(i, "filename");
-    if (filename.empty()) throw IoError(sample_data.file(), "row " + std::to_string(i) + ": empty filename");
-    // A sweep lies under the dataroot: a table may not point the reader at other files.
-    const fs::path relative(filename);
-    bool leaves = relative.has_root_name() || relative.has_root_directory() || filename.find('\0') != std::string::npos;
-    for (const auto& part : relative)
-      if (part == "..") leaves = true;
-    if (leaves)
-      throw IoError(sample_data.file(),
-                    "row " + std::to_string(i) + ": filename '" + filename +
-                        "' leaves the dataroot (an absolute path or '..'); sweeps must lie under it");
-    s.path = (fs::path(dataroot_) / relative).string();
+    s.path = sweepPath(sample_data, i, dataroot_);
     s.sensor_to_ego = cal->second.pose;
-    const std::string ego_token = sample_data.str(i, "ego_pose_token");
-    const auto ego = ego_row.find(ego_token);
-    if (ego == ego_row.end())
-      throw IoError(sample_data.file(),
-                    "row " + std::to_string(i) + ": ego_pose_token '" + ego_token + "' is not in ego_pose.json");
+    const auto ego =
+        lookUp(ego_row, sample_data.str(i, "ego_pose_token"), sample_data, i, "ego_pose_token", "ego_pose.json");
     s.ego_to_global = ego_pose.pose(ego->second);
-    const std::string sample_token = sample_data.str(i, "sample_token");
-    const auto sc = sample_scene.find(sample_token);
-    if (sc == sample_scene.end())
-      throw IoError(sample_data.file(),
-                    "row " + std::to_string(i) + ": sample_token '" + sample_token + "' is not in sample.json");
+    const auto sc =
+        lookUp(sample_scene, sample_data.str(i, "sample_token"), sample_data, i, "sample_token", "sample.json");
     sweeps_by_scene_[sc->second].push_back(std::move(s));
   }
+  sortSweepsAndSpanScenes();
+}
+
+void NuScenesDataset::sortSweepsAndSpanScenes() {
   for (auto& [token, sweeps] : sweeps_by_scene_)
     std::sort(sweeps.begin(), sweeps.end(), [](const NuScenesSweep& a, const NuScenesSweep& b) {
       return a.timestamp_us != b.timestamp_us ? a.timestamp_us < b.timestamp_us : a.channel_index < b.channel_index;

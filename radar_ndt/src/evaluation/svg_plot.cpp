@@ -137,18 +137,8 @@ void range(const std::vector<double>& v, double& lo, double& hi) {
   }
 }
 
-}  // namespace
-
-void writeEvaluationSvg(const std::string& path, const PosePairs& pairs, const EvaluationReport& report,
-                        const std::string& title) {
-  const double W = 1200, H = 600;
-  std::ostringstream out;
-  out << "<?xml version='1.0' encoding='UTF-8'?>\n<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='"
-      << H << "' viewBox='0 0 " << W << ' ' << H << "' font-family='sans-serif'>\n";
-  out << "<rect width='100%' height='100%' fill='white'/>\n";
-  out << "<text x='" << W / 2 << "' y='22' font-size='16' text-anchor='middle'>" << esc(title) << "</text>\n";
-
-  // Panel 1: top view, equal axes.
+/// Panel 1: the top view of both trajectories, equal axes, the start marked.
+void topView(std::ostringstream& out, const PosePairs& pairs) {
   std::vector<double> gx, gy, ex, ey;
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     gx.push_back(pairs.gt[i].translation().x());
@@ -173,46 +163,66 @@ void writeEvaluationSvg(const std::string& path, const PosePairs& pairs, const E
   }
   top.legend(0, "ground truth", "#1f77b4");
   top.legend(1, "estimate", "#d62728");
+}
 
-  // Panel 2: errors.
-  if (report.kitti && !report.kitti->per_length.empty()) {
-    std::vector<double> L, te, re;
-    for (const auto& pl : report.kitti->per_length)
-      if (pl.segments > 0) {
-        L.push_back(pl.length);
-        te.push_back(pl.trans_err_pct);
-        re.push_back(pl.rot_err_deg_per_m * 100.0);
-      }
-    double l0 = 0, l1 = 1, t0 = 0, t1 = 1e-9, r0 = 0, r1 = 1e-9;
-    if (!L.empty()) {
-      l0 = L.front();
-      l1 = L.back();
+/// Panel 2 with KITTI errors: translation and rotation error by segment length.
+void kittiErrors(std::ostringstream& out, const SegmentError& kitti) {
+  std::vector<double> L, te, re;
+  for (const auto& pl : kitti.per_length)
+    if (pl.segments > 0) {
+      L.push_back(pl.length);
+      te.push_back(pl.trans_err_pct);
+      re.push_back(pl.rot_err_deg_per_m * 100.0);
     }
-    range(te, t0, t1);
-    range(re, r0, r1);
-    Chart ct(out, Box{700, 40, 460, 210}, l0, l1, 0, t1 * 1.1, false);
-    ct.axes("segment length (m)", "translation (%)");
-    ct.polyline(L, te, "#d62728");
-    ct.markers(L, te, "#d62728");
-    Chart cr(out, Box{700, 330, 460, 210}, l0, l1, 0, r1 * 1.1, false);
-    cr.axes("segment length (m)", "rotation (deg/100 m)");
-    cr.polyline(L, re, "#9467bd");
-    cr.markers(L, re, "#9467bd");
-  } else {
-    std::vector<double> idx, err;
-    for (std::size_t i = 0; i + 1 < pairs.size(); ++i) {
-      const Eigen::Isometry3d d_gt = pairs.gt[i].inverse() * pairs.gt[i + 1];
-      const Eigen::Isometry3d d_est = pairs.est[i].inverse() * pairs.est[i + 1];
-      idx.push_back(static_cast<double>(i));
-      err.push_back((d_est.inverse() * d_gt).translation().norm());
-    }
-    double i0 = 0, i1 = 1, e0 = 0, e1 = 1e-9;
-    range(idx, i0, i1);
-    range(err, e0, e1);
-    Chart c(out, Box{700, 40, 460, 500}, i0, i1, 0, e1 * 1.1, false);
-    c.axes("pose index", "frame-to-frame translation error (m)");
-    c.polyline(idx, err, "#d62728", 1.0);
+  double l0 = 0, l1 = 1, t0 = 0, t1 = 1e-9, r0 = 0, r1 = 1e-9;
+  if (!L.empty()) {
+    l0 = L.front();
+    l1 = L.back();
   }
+  range(te, t0, t1);
+  range(re, r0, r1);
+  Chart ct(out, Box{700, 40, 460, 210}, l0, l1, 0, t1 * 1.1, false);
+  ct.axes("segment length (m)", "translation (%)");
+  ct.polyline(L, te, "#d62728");
+  ct.markers(L, te, "#d62728");
+  Chart cr(out, Box{700, 330, 460, 210}, l0, l1, 0, r1 * 1.1, false);
+  cr.axes("segment length (m)", "rotation (deg/100 m)");
+  cr.polyline(L, re, "#9467bd");
+  cr.markers(L, re, "#9467bd");
+}
+
+/// Panel 2 without them: the frame-to-frame translation error by pose.
+void frameErrors(std::ostringstream& out, const PosePairs& pairs) {
+  std::vector<double> idx, err;
+  for (std::size_t i = 0; i + 1 < pairs.size(); ++i) {
+    const Eigen::Isometry3d d_gt = pairs.gt[i].inverse() * pairs.gt[i + 1];
+    const Eigen::Isometry3d d_est = pairs.est[i].inverse() * pairs.est[i + 1];
+    idx.push_back(static_cast<double>(i));
+    err.push_back((d_est.inverse() * d_gt).translation().norm());
+  }
+  double i0 = 0, i1 = 1, e0 = 0, e1 = 1e-9;
+  range(idx, i0, i1);
+  range(err, e0, e1);
+  Chart c(out, Box{700, 40, 460, 500}, i0, i1, 0, e1 * 1.1, false);
+  c.axes("pose index", "frame-to-frame translation error (m)");
+  c.polyline(idx, err, "#d62728", 1.0);
+}
+
+}  // namespace
+
+void writeEvaluationSvg(const std::string& path, const PosePairs& pairs, const EvaluationReport& report,
+                        const std::string& title) {
+  const double W = 1200, H = 600;
+  std::ostringstream out;
+  out << "<?xml version='1.0' encoding='UTF-8'?>\n<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='"
+      << H << "' viewBox='0 0 " << W << ' ' << H << "' font-family='sans-serif'>\n";
+  out << "<rect width='100%' height='100%' fill='white'/>\n";
+  out << "<text x='" << W / 2 << "' y='22' font-size='16' text-anchor='middle'>" << esc(title) << "</text>\n";
+  topView(out, pairs);
+  if (report.kitti && !report.kitti->per_length.empty())
+    kittiErrors(out, *report.kitti);
+  else
+    frameErrors(out, pairs);
   out << "</svg>\n";
   writeFileAtomically(path, out.str());
 }

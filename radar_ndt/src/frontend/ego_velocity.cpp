@@ -28,35 +28,34 @@ constexpr double kDopplerFloor = 0.03;
 /// vy's variance under the nonholonomic model when no lateral σ is set: (1 m/s)², i.e. unknown.
 constexpr double kFreeLateral = 1.0;
 
-/// RANSAC (minimal samples of D detections, MSAC cost) and least squares on the inliers for the
-/// model v_r = a · x with x of dimension D; `full` maps x to (vx, vy, ω) for the plausibility
-/// check. With prior_index ≥ 0 the least squares also observes x[prior_index] = 0 with σ
-/// prior_sigma (RANSAC does not). Returns false when no consensus or a degenerate inlier set;
-/// else x, the normal matrix (prior included), the inlier flags and their residual sum of squares.
+/// The MSAC cost of x over all rows: squared residuals of the inliers, thr² for each outlier (ties
+/// between equal counts go to the tighter fit); and the inlier count.
+template <int D>
+std::pair<double, std::size_t> msacCost(const std::vector<Eigen::Matrix<double, D, 1>>& rows,
+                                        const std::vector<double>& rhs, const Eigen::Matrix<double, D, 1>& x,
+                                        double thr) {
+  std::size_t c = 0;
+  double sum = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const double e = std::abs(rows[i].dot(x) - rhs[i]);
+    if (e <= thr) {
+      ++c;
+      sum += e * e;
+    } else {
+      sum += thr * thr;
+    }
+  }
+  return std::make_pair(sum, c);
+}
+
+/// RANSAC over minimal samples of D rows with the MSAC cost: the best plausible x (`full` maps it
+/// to (vx, vy, ω): a car's speed and yaw rate) and its inlier count (0: none found).
 template <int D, typename Full>
-bool fitDoppler(const std::vector<Eigen::Matrix<double, D, 1>>& rows, const std::vector<double>& rhs,
-                const EgoVelocityOptions& o, Full full, int prior_index, double prior_sigma,
-                Eigen::Matrix<double, D, 1>* x_out, Eigen::Matrix<double, D, D>* ata_out, std::vector<char>* in_out,
-                double* rss_out) {
+std::size_t ransacDoppler(const std::vector<Eigen::Matrix<double, D, 1>>& rows, const std::vector<double>& rhs,
+                          const EgoVelocityOptions& o, Full full, Eigen::Matrix<double, D, 1>* best_out) {
   using Vec = Eigen::Matrix<double, D, 1>;
   using Mat = Eigen::Matrix<double, D, D>;
   const std::size_t n = rows.size();
-  const double thr = o.inlier_threshold;
-  auto cost = [&](const Vec& x) {
-    std::size_t c = 0;
-    double sum = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double e = std::abs(rows[i].dot(x) - rhs[i]);
-      if (e <= thr) {
-        ++c;
-        sum += e * e;
-      } else {
-        sum += thr * thr;  // MSAC cost: ties between equal counts go to the tighter fit
-      }
-    }
-    return std::make_pair(sum, c);
-  };
-
   // Deterministic generator (fixed seed, own index draw).
   std::mt19937 rng(o.seed);
   auto draw = [&](std::size_t bound) { return static_cast<std::size_t>(rng() % bound); };
@@ -81,20 +80,28 @@ bool fitDoppler(const std::vector<Eigen::Matrix<double, D, 1>>& rows, const std:
     const Vec x = A.partialPivLu().solve(b);
     const Eigen::Vector3d v = full(x);
     if (!v.allFinite() || v.head<2>().norm() > 100.0 || std::abs(v.z()) > 3.0) continue;  // not a car
-    const auto [c, count] = cost(x);
+    const auto [c, count] = msacCost<D>(rows, rhs, x, o.inlier_threshold);
     if (c < best_cost) {
       best_cost = c;
       best_count = count;
       best = x;
     }
   }
-  if (best_count < static_cast<std::size_t>(D)) return false;
+  *best_out = best;
+  return best_count;
+}
 
-  // Least squares on the inliers, twice (the refit may gain or lose border points).
-  Vec x = best;
-  std::vector<char>& in = *in_out;
+/// Least squares on the inliers of x, twice (the refit may gain or lose border points); with
+/// prior_index ≥ 0 also observing x[prior_index] = 0 with σ prior_sigma. False for too few inliers
+/// or a degenerate normal matrix; else x, the normal matrix (prior included) and the inlier flags.
+template <int D>
+bool refineDoppler(const std::vector<Eigen::Matrix<double, D, 1>>& rows, const std::vector<double>& rhs, double thr,
+                   int prior_index, double prior_sigma, Eigen::Matrix<double, D, 1>& x,
+                   Eigen::Matrix<double, D, D>& AtA, std::vector<char>& in) {
+  using Vec = Eigen::Matrix<double, D, 1>;
+  using Mat = Eigen::Matrix<double, D, D>;
+  const std::size_t n = rows.size();
   in.assign(n, 0);
-  Mat AtA;
   for (int round = 0; round < 2; ++round) {
     AtA.setZero();
     Vec Atb = Vec::Zero();
@@ -120,8 +127,26 @@ bool fitDoppler(const std::vector<Eigen::Matrix<double, D, 1>>& rows, const std:
     if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-9)) return false;
     x = ldlt.solve(Atb);
   }
+  return true;
+}
+
+/// RANSAC (minimal samples of D detections, MSAC cost) and least squares on the inliers for the
+/// model v_r = a · x with x of dimension D; `full` maps x to (vx, vy, ω) for the plausibility
+/// check. With prior_index ≥ 0 the least squares also observes x[prior_index] = 0 with σ
+/// prior_sigma (RANSAC does not). Returns false when no consensus or a degenerate inlier set;
+/// else x, the normal matrix (prior included), the inlier flags and their residual sum of squares.
+template <int D, typename Full>
+bool fitDoppler(const std::vector<Eigen::Matrix<double, D, 1>>& rows, const std::vector<double>& rhs,
+                const EgoVelocityOptions& o, Full full, int prior_index, double prior_sigma,
+                Eigen::Matrix<double, D, 1>* x_out, Eigen::Matrix<double, D, D>* ata_out, std::vector<char>* in_out,
+                double* rss_out) {
+  Eigen::Matrix<double, D, 1> x;
+  if (ransacDoppler<D>(rows, rhs, o, full, &x) < static_cast<std::size_t>(D)) return false;
+  Eigen::Matrix<double, D, D> AtA;
+  std::vector<char>& in = *in_out;
+  if (!refineDoppler<D>(rows, rhs, o.inlier_threshold, prior_index, prior_sigma, x, AtA, in)) return false;
   double rss = 0;
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t i = 0; i < rows.size(); ++i)
     if (in[i]) {
       const double e = rows[i].dot(x) - rhs[i];
       rss += e * e;
@@ -129,6 +154,76 @@ bool fitDoppler(const std::vector<Eigen::Matrix<double, D, 1>>& rows, const std:
   *x_out = x;
   *ata_out = AtA;
   *rss_out = rss;
+  return true;
+}
+
+/// The Doppler model's rows (and right-hand sides) of the cloud's usable detections, the point
+/// each comes from, and the detections per sensor.
+void dopplerRows(const pcl::PointCloud<PointRadar>& cloud, const std::vector<SensorMounting>& mountings,
+                 std::vector<Eigen::Vector3d>& rows, std::vector<double>& rhs, std::vector<std::size_t>& index,
+                 std::vector<std::size_t>& per_sensor) {
+  per_sensor.assign(mountings.size(), 0);
+  rows.reserve(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const PointRadar& p = cloud[i];
+    if (p.sensor_id >= mountings.size() || !mountings[p.sensor_id].valid) continue;
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.doppler)) continue;
+    Eigen::Vector3d a;
+    if (!modelRow(mountings[p.sensor_id], p.x, p.y, a)) continue;
+    rows.push_back(a);
+    rhs.push_back(p.doppler);
+    index.push_back(i);
+    ++per_sensor[p.sensor_id];
+  }
+}
+
+/// The full model needs radars at two places at least, each with enough detections to fix its own
+/// velocity: one place sees only its own velocity.
+bool needsNonholonomic(const EgoVelocityOptions& o, const std::vector<SensorMounting>& mountings,
+                       const std::vector<std::size_t>& per_sensor) {
+  if (o.model != EgoVelocityModel::Auto) return o.model == EgoVelocityModel::Nonholonomic;
+  auto enough = [&](std::size_t k) { return per_sensor[k] >= o.min_inliers; };
+  double spread = 0;
+  for (std::size_t a = 0; a < mountings.size(); ++a)
+    for (std::size_t b = a + 1; b < mountings.size(); ++b)
+      if (enough(a) && enough(b))
+        spread = std::max(spread, std::hypot(mountings[a].x - mountings[b].x, mountings[a].y - mountings[b].y));
+  return spread < 0.2;
+}
+
+/// vy = 0: the rows keep the vx and ω columns. The velocity and its unscaled covariance.
+bool fitNonholonomic(const std::vector<Eigen::Vector3d>& rows, const std::vector<double>& rhs,
+                     const EgoVelocityOptions& o, EgoVelocity& out, std::vector<char>& in, double& rss) {
+  std::vector<Eigen::Vector2d> rows2;
+  rows2.reserve(rows.size());
+  for (const auto& a : rows) rows2.emplace_back(a.x(), a.z());
+  Eigen::Vector2d x;
+  Eigen::Matrix2d AtA;
+  if (!fitDoppler<2>(
+          rows2, rhs, o, [](const Eigen::Vector2d& y) { return Eigen::Vector3d(y.x(), 0.0, y.y()); }, -1, 0.0, &x, &AtA,
+          &in, &rss))
+    return false;
+  out.velocity = Eigen::Vector3d(x.x(), 0.0, x.y());
+  const Eigen::Matrix2d C = AtA.inverse();
+  out.covariance.setZero();
+  out.covariance(0, 0) = C(0, 0);
+  out.covariance(0, 2) = out.covariance(2, 0) = C(0, 1);
+  out.covariance(2, 2) = C(1, 1);
+  return true;
+}
+
+/// (vx, vy, ω), vy with its prior when lateral_sigma > 0. The velocity and its unscaled covariance.
+bool fitFull(const std::vector<Eigen::Vector3d>& rows, const std::vector<double>& rhs, const EgoVelocityOptions& o,
+             EgoVelocity& out, std::vector<char>& in, double& rss) {
+  Eigen::Vector3d x;
+  Eigen::Matrix3d AtA;
+  const bool prior = o.lateral_sigma > 0;
+  if (!fitDoppler<3>(
+          rows, rhs, o, [](const Eigen::Vector3d& y) { return y; }, prior ? 1 : -1, o.lateral_sigma, &x, &AtA, &in,
+          &rss))
+    return false;
+  out.velocity = x;
+  out.covariance = AtA.inverse();
   return true;
 }
 
@@ -174,68 +269,20 @@ EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cl
   std::vector<Eigen::Vector3d> rows;
   std::vector<double> rhs;
   std::vector<std::size_t> index;  // row → point
-  std::vector<std::size_t> per_sensor(mountings.size(), 0);
-  rows.reserve(cloud.size());
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const PointRadar& p = cloud[i];
-    if (p.sensor_id >= mountings.size() || !mountings[p.sensor_id].valid) continue;
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.doppler)) continue;
-    Eigen::Vector3d a;
-    if (!modelRow(mountings[p.sensor_id], p.x, p.y, a)) continue;
-    rows.push_back(a);
-    rhs.push_back(p.doppler);
-    index.push_back(i);
-    ++per_sensor[p.sensor_id];
-  }
+  std::vector<std::size_t> per_sensor;
+  dopplerRows(cloud, mountings, rows, rhs, index, per_sensor);
   const std::size_t n = rows.size();
   out.points = n;
-
-  // The full model needs radars at two places at least, each with enough detections to fix its own
-  // velocity: one place sees only its own velocity.
-  bool nonholonomic = options_.model == EgoVelocityModel::Nonholonomic;
-  if (options_.model == EgoVelocityModel::Auto) {
-    auto enough = [&](std::size_t k) { return per_sensor[k] >= options_.min_inliers; };
-    double spread = 0;
-    for (std::size_t a = 0; a < mountings.size(); ++a)
-      for (std::size_t b = a + 1; b < mountings.size(); ++b)
-        if (enough(a) && enough(b))
-          spread = std::max(spread, std::hypot(mountings[a].x - mountings[b].x, mountings[a].y - mountings[b].y));
-    nonholonomic = spread < 0.2;
-  }
+  const bool nonholonomic = needsNonholonomic(options_, mountings, per_sensor);
   out.nonholonomic = nonholonomic;
   const std::size_t dims = nonholonomic ? 2 : 3;
   if (n < std::max(dims, options_.min_inliers)) return out;
 
   std::vector<char> in;
   double rss = 0;
-  if (nonholonomic) {
-    // vy = 0: the row keeps the vx and ω columns.
-    std::vector<Eigen::Vector2d> rows2;
-    rows2.reserve(n);
-    for (const auto& a : rows) rows2.emplace_back(a.x(), a.z());
-    Eigen::Vector2d x;
-    Eigen::Matrix2d AtA;
-    if (!fitDoppler<2>(
-            rows2, rhs, options_, [](const Eigen::Vector2d& y) { return Eigen::Vector3d(y.x(), 0.0, y.y()); }, -1, 0.0,
-            &x, &AtA, &in, &rss))
-      return out;
-    out.velocity = Eigen::Vector3d(x.x(), 0.0, x.y());
-    const Eigen::Matrix2d C = AtA.inverse();
-    out.covariance.setZero();
-    out.covariance(0, 0) = C(0, 0);
-    out.covariance(0, 2) = out.covariance(2, 0) = C(0, 1);
-    out.covariance(2, 2) = C(1, 1);
-  } else {
-    Eigen::Vector3d x;
-    Eigen::Matrix3d AtA;
-    const bool prior = options_.lateral_sigma > 0;
-    if (!fitDoppler<3>(
-            rows, rhs, options_, [](const Eigen::Vector3d& y) { return y; }, prior ? 1 : -1, options_.lateral_sigma, &x,
-            &AtA, &in, &rss))
-      return out;
-    out.velocity = x;
-    out.covariance = AtA.inverse();
-  }
+  const bool fitted =
+      nonholonomic ? fitNonholonomic(rows, rhs, options_, out, in, rss) : fitFull(rows, rhs, options_, out, in, rss);
+  if (!fitted) return out;
   std::size_t m_final = 0;
   for (std::size_t i = 0; i < n; ++i) m_final += in[i] != 0;
   out.inliers = m_final;

@@ -25,57 +25,59 @@ void NuScenesSequenceOptions::validate() const {
   if (!(filter.max_range > 0)) throw std::invalid_argument("NuScenesSequenceOptions: filter.max_range must be > 0");
 }
 
-NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene,
-                                             const NuScenesSequenceOptions& options)
-    : scene_name_(scene.name), options_(options), sweeps_(dataset.radarSweeps(scene)) {
-  options_.validate();
-  if (sweeps_.empty()) throw std::invalid_argument("scene " + scene.name + " has no radar sweeps");
-  const auto& channels = dataset.radarChannels();
-  if (!options.channels.empty()) {
-    std::vector<char> wanted(channels.size(), 0);
-    for (const auto& name : options.channels) {
-      std::size_t i = 0;
-      while (i < channels.size() && channels[i] != name) ++i;
-      if (i == channels.size())
-        throw std::invalid_argument("no radar channel '" + name + "' (radar channels: " +
-                                    joinNames(channels, [](const std::string& c) { return c; }) + ")");
-      wanted[i] = 1;
-    }
-    std::vector<NuScenesSweep> kept;
-    for (auto& s : sweeps_)
-      if (s.channel_index < wanted.size() && wanted[s.channel_index]) kept.push_back(std::move(s));
-    sweeps_.swap(kept);
-    if (sweeps_.empty())
-      throw std::invalid_argument("scene " + scene.name + " has no sweeps of the chosen radar channels");
+namespace {
+
+/// The sweeps of the chosen channels (all when none is chosen); a channel the dataset does not
+/// have, or none left, is an error naming the channels there are.
+void keepChannels(std::vector<NuScenesSweep>& sweeps, const std::vector<std::string>& channels,
+                  const std::vector<std::string>& chosen, const std::string& scene) {
+  if (chosen.empty()) return;
+  std::vector<char> wanted(channels.size(), 0);
+  for (const auto& name : chosen) {
+    std::size_t i = 0;
+    while (i < channels.size() && channels[i] != name) ++i;
+    if (i == channels.size())
+      throw std::invalid_argument("no radar channel '" + name + "' (radar channels: " +
+                                  joinNames(channels, [](const std::string& c) { return c; }) + ")");
+    wanted[i] = 1;
   }
-  // The forward-facing radar: mounting yaw closest to 0 (ties: the one further forward).
+  std::vector<NuScenesSweep> kept;
+  for (auto& s : sweeps)
+    if (s.channel_index < wanted.size() && wanted[s.channel_index]) kept.push_back(std::move(s));
+  sweeps.swap(kept);
+  if (sweeps.empty()) throw std::invalid_argument("scene " + scene + " has no sweeps of the chosen radar channels");
+}
+
+/// The channel that clocks the cycles: the one asked for, or the forward-facing radar (mounting yaw
+/// closest to 0; ties: the one further forward).
+int chooseReferenceChannel(const std::vector<NuScenesSweep>& sweeps, const std::vector<std::string>& channels,
+                           const std::string& asked, const std::string& scene) {
   std::map<std::uint16_t, SensorMounting> mount;
-  for (const auto& s : sweeps_)
+  for (const auto& s : sweeps)
     if (!mount.count(s.channel_index)) mount[s.channel_index] = toMounting(s.sensor_to_ego);
   int ref = -1;
-  if (!options.reference_channel.empty()) {
+  if (!asked.empty()) {
     for (const auto& [idx, m] : mount)
-      if (channels[idx] == options.reference_channel) ref = idx;
+      if (channels[idx] == asked) ref = idx;
     if (ref < 0)
-      throw std::invalid_argument(
-          "reference channel '" + options.reference_channel + "' has no sweeps in " + scene.name +
-          " (radar channels: " + joinNames(mount, [&](const auto& e) { return channels[e.first]; }) + ")");
-  } else {
-    double best = 1e9;
-    for (const auto& [idx, m] : mount) {
-      const double score = std::abs(normalizeAngle(m.yaw)) - 1e-3 * m.x;
-      if (score < best) {
-        best = score;
-        ref = idx;
-      }
+      throw std::invalid_argument("reference channel '" + asked + "' has no sweeps in " + scene + " (radar channels: " +
+                                  joinNames(mount, [&](const auto& e) { return channels[e.first]; }) + ")");
+    return ref;
+  }
+  double best = 1e9;
+  for (const auto& [idx, m] : mount) {
+    const double score = std::abs(normalizeAngle(m.yaw)) - 1e-3 * m.x;
+    if (score < best) {
+      best = score;
+      ref = idx;
     }
   }
-  reference_channel_ = channels[static_cast<std::size_t>(ref)];
-  std::vector<SweepStamp> stamps;
-  stamps.reserve(sweeps_.size());
-  for (const auto& s : sweeps_) stamps.push_back({s.timestamp_us, s.channel_index});
-  plans_ = planRadarCycles(stamps, static_cast<std::uint16_t>(ref));
-  // Silences: per channel, gaps of more than three of its median intervals.
+  return ref;
+}
+
+/// Silences: per channel, gaps of more than three of its median intervals, as messages.
+std::vector<std::string> findSilences(const std::vector<SweepStamp>& stamps, const std::vector<std::string>& channels) {
+  std::vector<std::string> out;
   std::map<std::uint16_t, std::vector<std::int64_t>> by_channel;
   for (const auto& st : stamps) by_channel[st.channel].push_back(st.timestamp_us);
   for (const auto& [channel, t] : by_channel) {
@@ -92,9 +94,28 @@ NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, con
                       "%s: silent for %.2f s (no sweep from %lld to %lld us; its sweeps are %.3f s apart)",
                       channels[channel].c_str(), 1e-6 * static_cast<double>(gaps[i]), static_cast<long long>(t[i]),
                       static_cast<long long>(t[i + 1]), 1e-6 * static_cast<double>(typical));
-        silences_.push_back(line);
+        out.push_back(line);
       }
   }
+  return out;
+}
+
+}  // namespace
+
+NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene,
+                                             const NuScenesSequenceOptions& options)
+    : scene_name_(scene.name), options_(options), sweeps_(dataset.radarSweeps(scene)) {
+  options_.validate();
+  if (sweeps_.empty()) throw std::invalid_argument("scene " + scene.name + " has no radar sweeps");
+  const auto& channels = dataset.radarChannels();
+  keepChannels(sweeps_, channels, options.channels, scene.name);
+  const int ref = chooseReferenceChannel(sweeps_, channels, options.reference_channel, scene.name);
+  reference_channel_ = channels[static_cast<std::size_t>(ref)];
+  std::vector<SweepStamp> stamps;
+  stamps.reserve(sweeps_.size());
+  for (const auto& s : sweeps_) stamps.push_back({s.timestamp_us, s.channel_index});
+  plans_ = planRadarCycles(stamps, static_cast<std::uint16_t>(ref));
+  silences_ = findSilences(stamps, channels);
   if (plans_.size() >= 2)
     period_s_ = 1e-6 * static_cast<double>(timestamp(plans_.size() - 1) - timestamp(0)) /
                 static_cast<double>(plans_.size() - 1);

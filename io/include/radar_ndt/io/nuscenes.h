@@ -91,6 +91,8 @@ class NuScenesDataset {
   std::vector<NuScenesSweep> radarSweeps(const NuScenesScene& scene) const;
 
  private:
+  /// Each scene's sweeps in time order (channel order at equal times), and each scene's span.
+  void sortSweepsAndSpanScenes();
   std::string dataroot_;
   std::string table_dir_;
   std::vector<NuScenesScene> scenes_;

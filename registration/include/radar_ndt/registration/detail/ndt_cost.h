@@ -17,6 +17,41 @@
 namespace radar_ndt {
 namespace detail {
 
+/// The cost's running sums, added in source-point order: value, gradient, Hessian (upper
+/// triangle), information (upper triangle) and the matched points.
+struct NdtSums {
+  double value = 0;
+  double g0 = 0, g1 = 0, g2 = 0;
+  double h00 = 0, h01 = 0, h02 = 0, h11 = 0, h12 = 0, h22 = 0;
+  double i00 = 0, i01 = 0, i02 = 0, i11 = 0, i12 = 0, i22 = 0;
+  std::size_t matched = 0;
+};
+
+/// Adds one point-to-cell term's Hessian and information to `s`: e its weighted Gaussian score,
+/// (ax, ay) = Σ⁻¹ d, a2 = dᵀ Σ⁻¹ ∂q/∂yaw, (jx, jy) = ∂q/∂yaw, (rx, ry) = R p.
+inline void addSecondOrder(NdtSums& s, double e, const NdtCell& cell, double ax, double ay, double a2, double jx,
+                           double jy, double rx, double ry, bool hessian, bool information) {
+  const double cjx = cell.ixx * jx + cell.ixy * jy, cjy = cell.ixy * jx + cell.iyy * jy;  // Σ⁻¹ ∂q/∂yaw
+  if (hessian) {
+    // Biber & Straßer (2003): H_kl = e [−(aᵀJ_k)(aᵀJ_l) + J_lᵀΣ⁻¹J_k + aᵀ ∂²q/∂x_k∂x_l],
+    // with ∂²q/∂yaw² = −R p and the other second derivatives zero.
+    s.h00 += e * (cell.ixx - ax * ax);
+    s.h01 += e * (cell.ixy - ax * ay);
+    s.h02 += e * (cjx - ax * a2);
+    s.h11 += e * (cell.iyy - ay * ay);
+    s.h12 += e * (cjy - ay * a2);
+    s.h22 += e * (jx * cjx + jy * cjy - a2 * a2 - ax * rx - ay * ry);
+  }
+  if (information) {
+    s.i00 += e * cell.ixx;
+    s.i01 += e * cell.ixy;
+    s.i02 += e * cjx;
+    s.i11 += e * cell.iyy;
+    s.i12 += e * cjy;
+    s.i22 += e * (jx * cjx + jy * cjy);
+  }
+}
+
 /// Value, gradient and Hessian of the negative score at pose x = (tx, ty, yaw) on one grid, and
 /// optionally the matched point count and the information Σᵢ wᵢ eᵢ Jᵢᵀ Σ⁻¹ Jᵢ. Deterministic: terms
 /// are summed in source-point order. `stride` > 1 uses every stride-th point.
@@ -27,11 +62,7 @@ inline double ndtCost(const NdtGrid& grid, const std::vector<WeightedPoint2D>& p
   constexpr double kMaxMahalanobis = 30.0;
   const double c = std::cos(x.z()), s = std::sin(x.z());
   const double tx = x.x(), ty = x.y();
-  double value = 0;
-  double g0 = 0, g1 = 0, g2 = 0;
-  double h00 = 0, h01 = 0, h02 = 0, h11 = 0, h12 = 0, h22 = 0;
-  double i00 = 0, i01 = 0, i02 = 0, i11 = 0, i12 = 0, i22 = 0;
-  std::size_t n_matched = 0;
+  NdtSums sum;
   for (std::size_t i = 0; i < points.size(); i += stride) {
     const auto& p = points[i];
     const double rx = c * p.x - s * p.y, ry = s * p.x + c * p.y;  // R p
@@ -49,39 +80,21 @@ inline double ndtCost(const NdtGrid& grid, const std::vector<WeightedPoint2D>& p
       if (m > kMaxMahalanobis) continue;
       hit = true;
       const double e = p.w * expNegative(-0.5 * m);  // m <= 30: argument in [-15, 0]
-      value -= e;
+      sum.value -= e;
       if (!gradient) continue;
       const double a2 = ax * jx + ay * jy;  // dᵀ Σ⁻¹ ∂q/∂yaw
-      g0 += e * ax;
-      g1 += e * ay;
-      g2 += e * a2;
-      const double cjx = cell.ixx * jx + cell.ixy * jy, cjy = cell.ixy * jx + cell.iyy * jy;  // Σ⁻¹ ∂q/∂yaw
-      if (hessian) {
-        // Biber & Straßer (2003): H_kl = e [−(aᵀJ_k)(aᵀJ_l) + J_lᵀΣ⁻¹J_k + aᵀ ∂²q/∂x_k∂x_l],
-        // with ∂²q/∂yaw² = −R p and the other second derivatives zero.
-        h00 += e * (cell.ixx - ax * ax);
-        h01 += e * (cell.ixy - ax * ay);
-        h02 += e * (cjx - ax * a2);
-        h11 += e * (cell.iyy - ay * ay);
-        h12 += e * (cjy - ay * a2);
-        h22 += e * (jx * cjx + jy * cjy - a2 * a2 - ax * rx - ay * ry);
-      }
-      if (information) {
-        i00 += e * cell.ixx;
-        i01 += e * cell.ixy;
-        i02 += e * cjx;
-        i11 += e * cell.iyy;
-        i12 += e * cjy;
-        i22 += e * (jx * cjx + jy * cjy);
-      }
+      sum.g0 += e * ax;
+      sum.g1 += e * ay;
+      sum.g2 += e * a2;
+      if (hessian || information) addSecondOrder(sum, e, cell, ax, ay, a2, jx, jy, rx, ry, hessian, information);
     }
-    if (hit) ++n_matched;
+    if (hit) ++sum.matched;
   }
-  if (gradient) *gradient << g0, g1, g2;
-  if (hessian) *hessian << h00, h01, h02, h01, h11, h12, h02, h12, h22;
-  if (information) *information << i00, i01, i02, i01, i11, i12, i02, i12, i22;
-  if (matched) *matched = n_matched;
-  return value;
+  if (gradient) *gradient << sum.g0, sum.g1, sum.g2;
+  if (hessian) *hessian << sum.h00, sum.h01, sum.h02, sum.h01, sum.h11, sum.h12, sum.h02, sum.h12, sum.h22;
+  if (information) *information << sum.i00, sum.i01, sum.i02, sum.i01, sum.i11, sum.i12, sum.i02, sum.i12, sum.i22;
+  if (matched) *matched = sum.matched;
+  return sum.value;
 }
 
 }  // namespace detail

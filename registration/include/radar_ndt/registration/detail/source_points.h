@@ -49,17 +49,17 @@ void weightSourcePoints(const pcl::PointCloud<PointT>& cloud, const pcl::Indices
   }
 }
 
-/// Points in one voxel of side `v` (> 0) become one point at their weighted centroid carrying
-/// their summed weight, in order of each voxel's first point. The cost Σ wᵢ exp(−½ qᵢᵀΣ⁻¹qᵢ)
-/// barely changes while the voxel is small against the cells' spread; evaluation time drops with
-/// the point count. Points beyond any sensible extent cannot be keyed and are dropped.
-inline void mergeSourceVoxels(double v, std::vector<WeightedPoint2D>& points, SourceVoxelScratch& scratch) {
-  if (!(v > 0) || points.size() <= 1) return;
-  // Each point's voxel key and the keys' extent, in one pass (the kept points keep their order).
-  std::vector<std::int32_t>& keys = scratch.keys;
+/// The extent of the voxel keys, inclusive.
+struct KeyExtent {
+  std::int32_t x0 = std::numeric_limits<std::int32_t>::max(), y0 = std::numeric_limits<std::int32_t>::max();
+  std::int32_t x1 = std::numeric_limits<std::int32_t>::min(), y1 = std::numeric_limits<std::int32_t>::min();
+};
+
+/// Each point's voxel key (side v) into `keys` (x, y pairs) and the keys' extent, in one pass;
+/// points beyond any sensible extent cannot be keyed and are dropped (the kept keep their order).
+inline KeyExtent keyVoxels(double v, std::vector<WeightedPoint2D>& points, std::vector<std::int32_t>& keys) {
   keys.resize(2 * points.size());
-  std::int32_t x0 = std::numeric_limits<std::int32_t>::max(), y0 = x0;
-  std::int32_t x1 = std::numeric_limits<std::int32_t>::min(), y1 = x1;
+  KeyExtent e;
   std::size_t n = 0;
   for (const auto& p : points) {
     const double u = p.x / v, w = p.y / v;
@@ -69,50 +69,66 @@ inline void mergeSourceVoxels(double v, std::vector<WeightedPoint2D>& points, So
     keys[2 * n] = kx;
     keys[2 * n + 1] = ky;
     ++n;
-    x0 = std::min(x0, kx);
-    x1 = std::max(x1, kx);
-    y0 = std::min(y0, ky);
-    y1 = std::max(y1, ky);
+    e.x0 = std::min(e.x0, kx);
+    e.x1 = std::max(e.x1, kx);
+    e.y0 = std::min(e.y0, ky);
+    e.y1 = std::max(e.y1, ky);
   }
   points.resize(n);
-  // (Σ w x, Σ w y, Σ w), in order of first point; swapped with `points` below, so the two buffers
-  // take turns and neither is allocated again while scans keep their size.
-  std::vector<WeightedPoint2D>& merged = scratch.merged;
-  merged.clear();
-  merged.reserve(n);
-  auto accumulate = [&](std::int32_t slot, const WeightedPoint2D& p) {
-    auto& m = merged[static_cast<std::size_t>(slot)];
-    m.x += p.w * p.x;
-    m.y += p.w * p.y;
-    m.w += p.w;
-  };
-  const std::int64_t width = std::int64_t(x1) - x0 + 1, height = std::int64_t(y1) - y0 + 1;
-  // A compact extent (a scan, a submap): a dense table of voxel slots, filled in far less time than
-  // hashing the points takes (at most 64 slots a point beyond 1 MB, and never over 16 MB).
-  // Neighbouring points share table rows, where a hash scatters them; both keep first-seen order,
-  // so the merged points are the same either way.
+  return e;
+}
+
+/// The merged slot of each point, in order of first point: from a dense table of voxel slots
+/// when the extent is compact (a scan, a submap), filled in far less time than hashing the points
+/// takes (at most 64 slots a point beyond 1 MB, and never over 16 MB), else from a hash.
+/// Neighbouring points share table rows where a hash scatters them; both keep first-seen order, so
+/// the merged points are the same either way. Calls add(slot, point, new_slot).
+template <typename Add>
+void forEachVoxelSlot(const std::vector<WeightedPoint2D>& points, const std::vector<std::int32_t>& keys,
+                      const KeyExtent& e, SourceVoxelScratch& scratch, Add&& add) {
+  const std::size_t n = points.size();
+  const std::int64_t width = std::int64_t(e.x1) - e.x0 + 1, height = std::int64_t(e.y1) - e.y0 + 1;
   const std::int64_t slots = width * height;
+  std::int32_t next = 0;
   if (n > 0 && slots <= std::min<std::int64_t>(64 * static_cast<std::int64_t>(n) + (1 << 18), 1 << 22)) {
     scratch.table.assign(static_cast<std::size_t>(slots), -1);
     for (std::size_t i = 0; i < n; ++i) {
       std::int32_t& slot =
-          scratch.table[static_cast<std::size_t>(std::int64_t(keys[2 * i] - x0) * height + (keys[2 * i + 1] - y0))];
-      if (slot < 0) {
-        slot = static_cast<std::int32_t>(merged.size());
-        merged.push_back({0, 0, 0});
-      }
-      accumulate(slot, points[i]);
+          scratch.table[static_cast<std::size_t>(std::int64_t(keys[2 * i] - e.x0) * height + (keys[2 * i + 1] - e.y0))];
+      const bool fresh = slot < 0;
+      if (fresh) slot = next++;
+      add(slot, points[i], fresh);
     }
-  } else {
-    KeyIndexMap map(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      bool inserted = false;
-      const std::int32_t slot =
-          map.findOrInsert(keys[2 * i], keys[2 * i + 1], static_cast<std::int32_t>(merged.size()), inserted);
-      if (inserted) merged.push_back({0, 0, 0});
-      accumulate(slot, points[i]);
-    }
+    return;
   }
+  KeyIndexMap map(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    bool inserted = false;
+    const std::int32_t slot = map.findOrInsert(keys[2 * i], keys[2 * i + 1], next, inserted);
+    if (inserted) ++next;
+    add(slot, points[i], inserted);
+  }
+}
+
+/// Points in one voxel of side `v` (> 0) become one point at their weighted centroid carrying
+/// their summed weight, in order of each voxel's first point. The cost Σ wᵢ exp(−½ qᵢᵀΣ⁻¹qᵢ)
+/// barely changes while the voxel is small against the cells' spread; evaluation time drops with
+/// the point count. Points beyond any sensible extent cannot be keyed and are dropped.
+inline void mergeSourceVoxels(double v, std::vector<WeightedPoint2D>& points, SourceVoxelScratch& scratch) {
+  if (!(v > 0) || points.size() <= 1) return;
+  const KeyExtent extent = keyVoxels(v, points, scratch.keys);
+  // (Σ w x, Σ w y, Σ w), in order of first point; swapped with `points` below, so the two buffers
+  // take turns and neither is allocated again while scans keep their size.
+  std::vector<WeightedPoint2D>& merged = scratch.merged;
+  merged.clear();
+  merged.reserve(points.size());
+  forEachVoxelSlot(points, scratch.keys, extent, scratch, [&](std::int32_t slot, const WeightedPoint2D& p, bool fresh) {
+    if (fresh) merged.push_back({0, 0, 0});
+    auto& m = merged[static_cast<std::size_t>(slot)];
+    m.x += p.w * p.x;
+    m.y += p.w * p.y;
+    m.w += p.w;
+  });
   for (auto& m : merged) {
     m.x /= m.w;
     m.y /= m.w;

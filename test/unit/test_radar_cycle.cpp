@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "radar_ndt/frontend/ego_velocity.h"
+#include "radar_ndt/frontend/point_covariance.h"
 #include "radar_ndt/frontend/radar_cycle.h"
+#include "radar_ndt/se2.h"
 
 using namespace radar_ndt;
 
@@ -67,5 +70,44 @@ TEST(AutomotiveFrontEnd, EachSweepIsMovedToTheReferenceTime) {
     const Eigen::Vector2d& w = world[i % world.size()];
     EXPECT_NEAR((*out.cloud)[i].x, w.x(), 2e-3) << "point " << i;
     EXPECT_NEAR((*out.cloud)[i].y, w.y(), 2e-3) << "point " << i;
+  }
+}
+
+// Every radar's detections carry covariances that lie along its own beam in the vehicle frame:
+// the polar model's (narrow along the range, wide across it) turned by that radar's mounting yaw,
+// for each of the nuScenes car's five radars (front, sides, and the rear two looking backwards).
+TEST(AutomotiveFrontEnd, EachRadarsCovariancesLieAlongItsOwnBeam) {
+  const double kDeg = kPi / 180.0;
+  const double yaws_deg[5] = {0.2, 88.36, -90.98, 174.41, -176.11};
+  RadarCycle cycle;
+  cycle.timestamp_us = 1000000;
+  const Eigen::Vector2d in_sensor(60.0 * std::cos(30.0 * kDeg), 60.0 * std::sin(30.0 * kDeg));
+  for (std::uint16_t id = 0; id < 5; ++id) {
+    RadarSweepData sweep;
+    sweep.timestamp_us = cycle.timestamp_us;  // at the reference time: nothing moves
+    sweep.sensor_id = id;
+    sweep.sensor_to_vehicle = Eigen::Isometry3d::Identity();
+    sweep.sensor_to_vehicle.linear() = Eigen::AngleAxisd(yaws_deg[id] * kDeg, Eigen::Vector3d::UnitZ()).matrix();
+    sweep.sensor_to_vehicle.translation() = Eigen::Vector3d(1.0 * id, -0.5 * id, 0.5);
+    PointRadar p(static_cast<float>(in_sensor.x()), static_cast<float>(in_sensor.y()), 0.f, 1.f);
+    sweep.points.push_back(p);
+    cycle.sweeps.push_back(sweep);
+  }
+  AutomotiveFrontEndOptions o;
+  o.remove_moving = false;
+  const ProcessedCycle out = AutomotiveFrontEnd(o).process(cycle);
+  ASSERT_EQ(out.cloud->size(), 5u);
+  const Eigen::Matrix2d in_sensor_cov = polarCovariance(in_sensor.x(), in_sensor.y(), o.polar);
+  for (std::size_t i = 0; i < 5; ++i) {
+    const PointRadar& q = (*out.cloud)[i];
+    ASSERT_LT(q.sensor_id, 5u);
+    const double beam = (yaws_deg[q.sensor_id] + 30.0) * kDeg;  // the point's bearing from its radar
+    const Eigen::Vector2d along(std::cos(beam), std::sin(beam)), across(-along.y(), along.x());
+    Eigen::Matrix2d C;
+    C << q.cov_xx, q.cov_xy, q.cov_xy, q.cov_yy;
+    EXPECT_NEAR(along.dot(C * along), 0.1 * 0.1, 1e-4) << "radar " << q.sensor_id << ": σ along its beam";
+    EXPECT_NEAR(across.dot(C * across), in_sensor_cov(1, 1) + in_sensor_cov(0, 0) - 0.01, 1e-3)
+        << "radar " << q.sensor_id << ": σ across its beam";
+    EXPECT_NEAR(along.dot(C * across), 0.0, 1e-4) << "radar " << q.sensor_id;
   }
 }

@@ -90,7 +90,51 @@ TEST(RunReport, SummaryJsonCarriesTheCountsAndTheMetricsInTheSharedShape) {
   EXPECT_NE(summaryText(r).find("fallbacks 1 (33.3 %)"), std::string::npos) << summaryText(r);
 }
 
-TEST(RunReport, DefaultMetricsPerPipeline) {
-  EXPECT_EQ(defaultMetrics(AutomotiveRunResult()), std::vector<Metric>{Metric::OneMeter});
-  EXPECT_EQ(defaultMetrics(ScanningRunResult()), (std::vector<Metric>{Metric::Kitti, Metric::Frame}));
+// The text summary counts every step once (they add up to the steps), and a run whose steps were
+// mostly not matched gets a failure line that says how; a matched run gets none.
+TEST(RunReport, TheSummaryAccountsForEveryStepAndAFailedRunSaysSo) {
+  ScanningRunResult r;
+  r.sequence = "seq";
+  StepLog log;
+  auto add = [&](std::int64_t t, StepStatus status, bool too_few) {
+    OdometryStep s = log.begin(t);
+    s.status = status;
+    s.too_few_points = too_few;
+    log.add(s);
+  };
+  add(0, StepStatus::First, false);
+  for (int k = 1; k <= 6; ++k) add(k, StepStatus::Matched, false);
+  add(7, StepStatus::Fallback, false);
+  log.bridge(8, ConstantVelocityModel());
+  r.counters = log.counters();
+  EXPECT_NE(summaryText(r).find("9 scans"), std::string::npos) << summaryText(r);
+  EXPECT_NE(summaryText(r).find("first 1, matched 6, retried 0, fallbacks 1 (11.1 %), dead-reckoned 0 (0 for too few "
+                                "points), bridged 1, skipped 0"),
+            std::string::npos)
+      << summaryText(r);
+  EXPECT_EQ(failureText(r), "") << "2 of 8 not matched";
+  for (int k = 9; k <= 14; ++k) add(k, StepStatus::DeadReckoned, true);
+  r.counters = log.counters();
+  const std::string failure = failureText(r);
+  EXPECT_EQ(failure.rfind("seq: FAILED: 8 of the 14 scans after the first were not matched (6 too few points, 1 "
+                          "fallbacks, 1 unreadable)",
+                          0),
+            0u)
+      << failure;
+  EXPECT_EQ(failure.back(), '\n');
+  const nlohmann::json j = nlohmann::json::parse(summaryJson(r));
+  EXPECT_EQ(j["too_few_points"], 6);
+  EXPECT_EQ(j["unmatched"], 8);
+  EXPECT_EQ(j["mostly_unmatched"], true);
+  // An automotive run without a matcher (the Doppler integral) dead-reckons by design: not a failure.
+  AutomotiveRunResult a;
+  a.scene = "scene-1";
+  StepLog doppler;
+  for (int k = 0; k < 10; ++k) {
+    OdometryStep s = doppler.begin(k);
+    s.status = k == 0 ? StepStatus::First : StepStatus::DeadReckoned;
+    doppler.add(s);
+  }
+  a.counters = doppler.counters();
+  EXPECT_EQ(failureText(a), "");
 }

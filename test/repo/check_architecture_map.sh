@@ -3,7 +3,8 @@
 # backticks) exists, so the map cannot drift from the code. Paths are tried from the repository
 # root and from each target's include folder (the map writes `frontend/ego_velocity.h` for
 # radar_ndt/include/radar_ndt/frontend/ego_velocity.h). Also: no M_PI (not standard C++) in the
-# sources. Usage: check_architecture_map.sh REPO_ROOT
+# sources; every dated note in docs/notes/ is linked from a doc, and every note a doc names exists.
+# Usage: check_architecture_map.sh REPO_ROOT
 set -u
 root=${1:?usage: check_architecture_map.sh REPO_ROOT}
 map=$root/docs/architecture.md
@@ -29,5 +30,18 @@ if [ -n "$uses" ]; then
   echo "M_PI (not standard C++; use radar_ndt::kPi) in: $uses"
   missing=$((missing + 1))
 fi
+# Every dated note is linked from a doc outside docs/notes/ (or the README), and every note a doc
+# names exists: a note nobody links to belongs folded into a pipeline doc.
+for note in "$root"/docs/notes/*.md; do
+  [ -e "$note" ] || continue
+  name=$(basename "$note")
+  if ! grep -rqF "docs/notes/$name" "$root/README.md" "$root/docs" --include='*.md' --exclude-dir=notes; then
+    echo "docs/notes/$name is linked from no doc (fold it into a pipeline doc's 'Measured and not adopted')"
+    missing=$((missing + 1))
+  fi
+done
+for named in $(grep -rhoE 'docs/notes/[A-Za-z0-9_.-]+\.md' "$root/README.md" "$root/docs" --include='*.md' | sort -u); do
+  [ -e "$root/$named" ] || { echo "$named is named in the docs but does not exist"; missing=$((missing + 1)); }
+done
 [ $checked -gt 20 ] || { echo "too few paths found in the map: the check itself is broken"; exit 1; }
 [ $missing -eq 0 ]

@@ -127,18 +127,10 @@ OxfordStamp parseStampLine(const std::string& path, std::size_t n, const std::st
 }  // namespace
 
 std::vector<OxfordStamp> readOxfordTimestamps(const std::string& path, std::vector<IoError>* skipped) {
-  std::vector<OxfordStamp> out;
-  detail::forEachLine(detail::readWholeFile(path), [&](std::size_t n, const std::string& line) {
-    if (detail::isBlank(line)) return true;
-    try {
-      out.push_back(parseStampLine(path, n, line, out));
-    } catch (const IoError& e) {
-      if (!skipped) throw;
-      skipped->push_back(e);
-    }
-    return true;
-  });
-  return out;
+  return detail::readIndexLines<OxfordStamp>(path, skipped,
+                                             [&](std::size_t n, const std::string& line, const auto& so_far) {
+                                               return parseStampLine(path, n, line, so_far);
+                                             });
 }
 
 void writeOxfordTimestamps(const std::string& path, const std::vector<OxfordStamp>& stamps) {

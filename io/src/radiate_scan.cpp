@@ -77,18 +77,10 @@ RadiateFrame parseFrameLine(const std::string& path, std::size_t n, const std::s
 }  // namespace
 
 std::vector<RadiateFrame> readRadiateFrameTimes(const std::string& path, std::vector<IoError>* skipped) {
-  std::vector<RadiateFrame> out;
-  detail::forEachLine(detail::readWholeFile(path), [&](std::size_t n, const std::string& line) {
-    if (detail::isBlank(line)) return true;
-    try {
-      out.push_back(parseFrameLine(path, n, line, out));
-    } catch (const IoError& e) {
-      if (!skipped) throw;
-      skipped->push_back(e);
-    }
-    return true;
-  });
-  return out;
+  return detail::readIndexLines<RadiateFrame>(path, skipped,
+                                              [&](std::size_t n, const std::string& line, const auto& so_far) {
+                                                return parseFrameLine(path, n, line, so_far);
+                                              });
 }
 
 }  // namespace radar_ndt

@@ -7,6 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/io/io_error.h"
+#include "read_file.h"
+
 namespace radar_ndt {
 namespace detail {
 
@@ -28,6 +31,25 @@ void forEachLine(const std::string& text, Fn&& fn) {
 
 /// True when the line holds nothing but spaces and tabs.
 bool isBlank(const std::string& line);
+
+/// An index file's entries, one a line (blank lines skipped): `parse(line_no, line, so_far)` gives
+/// the line's entry or throws IoError. Without `skipped` the first bad line throws; with it, a bad
+/// line is left out and its error kept there, so a sequence with a few bad index lines can run.
+template <typename T, typename Parse>
+std::vector<T> readIndexLines(const std::string& path, std::vector<IoError>* skipped, Parse&& parse) {
+  std::vector<T> out;
+  forEachLine(readWholeFile(path), [&](std::size_t n, const std::string& line) {
+    if (isBlank(line)) return true;
+    try {
+      out.push_back(parse(n, line, out));
+    } catch (const IoError& e) {
+      if (!skipped) throw;
+      skipped->push_back(e);
+    }
+    return true;
+  });
+  return out;
+}
 /// The comma-separated cells of a CSV line, each without surrounding spaces.
 std::vector<std::string> splitCsv(const std::string& line);
 /// The whole token as an integer or a finite number; IoError naming `what`, the file and line

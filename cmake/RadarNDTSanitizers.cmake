@@ -5,7 +5,13 @@
 #   this configuration in build-asan and runs the whole suite in it.
 # RADAR_NDT_FUZZ=ON (clang only): the libraries are compiled with -fsanitize=fuzzer-no-link plus ASan
 #   and UBSan so libFuzzer sees their coverage; the fuzz targets in test/fuzz/ link -fsanitize=fuzzer.
-set(_radar_ndt_san_flags -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer -O1 -g)
+# Eigen switches to its own ("handmade") aligned allocator when it sees __SANITIZE_ADDRESS__, while
+# Debian's PCL libraries, built without ASan, allocate Eigen members with plain malloc: an object
+# one side allocates and the other frees (PCL's NDT destroyed in our code) would be freed with the
+# wrong allocator. EIGEN_MALLOC_ALREADY_ALIGNED=1 keeps our code on PCL's allocator (x86-64 malloc,
+# ASan's included, returns 16-byte aligned memory).
+set(_radar_ndt_san_flags -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer -O1 -g
+                         -DEIGEN_MALLOC_ALREADY_ALIGNED=1)
 if(RADAR_NDT_FUZZ)
   if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
     message(FATAL_ERROR "RADAR_NDT_FUZZ needs clang (libFuzzer): configure with -DCMAKE_CXX_COMPILER=clang++ "

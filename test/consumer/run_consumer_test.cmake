@@ -13,8 +13,9 @@ run(${CMAKE_COMMAND} --install "${BUILD_DIR}" --prefix "${prefix}")
 run(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE}" -B "${WORK_DIR}/build" -G "${GENERATOR}"
     -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${prefix}
     # A sanitizer build installs instrumented static libraries: the consumer links the runtimes,
-    # and compiles with them too, since Eigen allocates differently under AddressSanitizer (a
-    # cloud the library allocated must be freed the same way).
+    # and compiles with them too, with the library's Eigen allocator setting (Eigen allocates
+    # differently under AddressSanitizer unless told otherwise; a cloud the library allocated must
+    # be freed the same way: cmake/RadarNDTSanitizers.cmake).
     "-DCMAKE_CXX_FLAGS=${CONSUMER_SANITIZER_FLAGS}"
     "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_SANITIZER_FLAGS}")
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")

@@ -37,7 +37,9 @@ if ! { cmake -S "$src" -B "$bld" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null 
   echo "mutation: the unmutated copy does not build" >&2
   exit 2
 fi
-if ! ctest --test-dir "$bld" -j"$jobs" >"$out/baseline.log" 2>&1; then
+# The repository checks (label "repository": formatting, the mutation list itself, the docs' paths)
+# read the sources, which a mutation changes on purpose; they are left out here.
+if ! ctest --test-dir "$bld" -j"$jobs" -LE repository >"$out/baseline.log" 2>&1; then
   echo "mutation: the unmutated suite fails (see $out/baseline.log): nothing to measure against" >&2
   exit 2
 fi
@@ -65,7 +67,7 @@ for id in "${ids[@]}"; do
     result="killed"
     killers="(does not compile)"
   else
-    ctest --test-dir "$bld" -j"$jobs" --timeout 900 --output-on-failure >"$out/$id.ctest.log" 2>&1
+    ctest --test-dir "$bld" -j"$jobs" -LE repository --timeout 900 --output-on-failure >"$out/$id.ctest.log" 2>&1
     # The failed tests: CTest's names, and inside a binary that runs a whole suite (integration/)
     # the GoogleTest cases that failed, so a determinism case is told from a value check.
     failed=$( { grep -oP '^\[  FAILED  \] \K[A-Za-z0-9_/]+\.[A-Za-z0-9_/.]+' "$out/$id.ctest.log";

@@ -1,5 +1,6 @@
-// libpng's classic API, exactly as stored: the decoder the polar-scan readers share (8-bit
-// samples, grey taken from colour files when every pixel is grey) and the writer.
+// The decoder the polar-scan readers share (8-bit samples, exactly as stored; grey taken from colour
+// files when every pixel is grey): the fast path (png_fast.h) for the files scans are, libpng's
+// classic API for the rest; and the writer.
 #include "radar_ndt/io/png_image.h"
 
 #include <png.h>
@@ -9,6 +10,7 @@
 #include <cstring>
 #include <new>
 
+#include "png_fast.h"
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/io_error.h"
 #include "read_file.h"
@@ -121,11 +123,15 @@ bool decodePngSamples(PngReadContext& ctx, bool& header_done) {
   return true;
 }
 
-GrayImage decodeGrayPng(const std::string& path, const std::string& data) {
+GrayImage decodeGrayPng(const std::string& path, const std::string& data, PngDecoder decoder) {
   static const unsigned char kSignature[8] = {137, 80, 78, 71, 13, 10, 26, 10};
   if (data.empty()) throw IoError(path, "empty file, expected a PNG image");
   if (data.size() < 8 || std::memcmp(data.data(), kSignature, 8) != 0)
     throw IoError(path, "not a PNG file (bad signature)");
+  GrayImage out;
+  if (decoder == PngDecoder::Fast &&
+      detail::decodeCanonicalGrayPng(data, kMaxPixels, kMaxInflation, out.width, out.height, out.pixels))
+    return out;
   PngReadContext ctx;
   ctx.data = &data;
   bool header_done = false;
@@ -134,7 +140,6 @@ GrayImage decodeGrayPng(const std::string& path, const std::string& data) {
     throw IoError(path,
                   std::string(header_done ? "corrupt or truncated PNG data: " : "invalid PNG header: ") + ctx.message);
   }
-  GrayImage out;
   out.width = static_cast<int>(ctx.width);
   out.height = static_cast<int>(ctx.height);
   if (ctx.channels == 1) {
@@ -192,8 +197,8 @@ bool encodePng(std::string& out, int width, int height, int channels, const std:
 
 }  // namespace
 
-GrayImage readGrayPng(const std::string& path) {
-  return decodeGrayPng(path, detail::readWholeFile(path));
+GrayImage readGrayPng(const std::string& path, PngDecoder decoder) {
+  return decodeGrayPng(path, detail::readWholeFile(path), decoder);
 }
 
 void writePng(const std::string& path, int width, int height, int channels, const std::uint8_t* pixels,

@@ -1,7 +1,8 @@
 // libFuzzer target: Oxford and RADIATE polar PNGs (readOxfordPolarPng, readRadiatePolarPng).
 // The first input byte chooses the reader (bit 0) and whether chunk CRCs are repaired (bit 1); the
 // rest is the file. Width and azimuth-count checks are off so the fuzzer reaches the row decoding
-// behind them.
+// behind them. Every input is also decoded by both PNG decoders (the fast path and libpng alone):
+// a file they answer differently (other pixels, or another error) is a finding.
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -10,6 +11,7 @@
 
 #include "fuzz_support.h"
 #include "radar_ndt/io/oxford_scan.h"
+#include "radar_ndt/io/png_image.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/radiate_scan.h"
 #include "radar_ndt/se2.h"
@@ -49,6 +51,17 @@ std::vector<std::uint8_t> withValidCrcs(const std::uint8_t* data, std::size_t si
   return png;
 }
 
+/// What a decoder makes of a file: its size and pixels, or its error.
+std::string decoded(const std::string& path, radar_ndt::PngDecoder decoder) {
+  try {
+    const radar_ndt::GrayImage img = radar_ndt::readGrayPng(path, decoder);
+    return std::to_string(img.width) + "x" + std::to_string(img.height) + ":" +
+           std::string(img.pixels.begin(), img.pixels.end());
+  } catch (const radar_ndt::IoError& e) {
+    return std::string("error: ") + e.what();
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -58,6 +71,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::vector<std::uint8_t> fixed =
       (data[0] & 2) != 0 ? std::vector<std::uint8_t>(data + 1, data + size) : withValidCrcs(data + 1, size - 1);
   const std::string path = radar_ndt::fuzz::writeBytes(name, fixed.data(), fixed.size());
+  if (decoded(path, radar_ndt::PngDecoder::Fast) != decoded(path, radar_ndt::PngDecoder::Libpng))
+    radar_ndt::fuzz::finding("the PNG fast path and libpng decode the file differently");
   radar_ndt::fuzz::readOrIoError(path, [&] {
     if (radiate) {
       radar_ndt::RadiatePolarOptions options;

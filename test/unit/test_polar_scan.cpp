@@ -5,8 +5,8 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
-#include <zlib.h>
 
+#include "png_support.h"
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/oxford_ground_truth.h"
 #include "radar_ndt/io/oxford_scan.h"
@@ -17,7 +17,9 @@
 #include "test_support.h"
 
 using namespace radar_ndt;
+using radar_ndt::test::buildPng;
 using radar_ndt::test::freshTempDir;
+using radar_ndt::test::pngChunk;
 using radar_ndt::test::readBytes;
 namespace fs = std::filesystem;
 
@@ -41,56 +43,6 @@ void expectIoError(F f, const std::string& path, const std::string& what) {
     EXPECT_NE(msg.find(path), std::string::npos) << msg;
     EXPECT_NE(msg.find(what), std::string::npos) << msg;
   }
-}
-
-/// A PNG chunk: length, type, data, CRC.
-std::string pngChunk(const std::string& type, const std::string& data) {
-  std::string out;
-  auto be32 = [&out](std::uint32_t v) {
-    for (int i = 3; i >= 0; --i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
-  };
-  be32(static_cast<std::uint32_t>(data.size()));
-  const std::string body = type + data;
-  out += body;
-  be32(static_cast<std::uint32_t>(
-      crc32(0L, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))));
-  return out;
-}
-
-/// A PNG as another tool might write it: `samples` is width × height pixels of `bytes_per_pixel`
-/// bytes each, stored with `bit_depth`/`color_type`, `extra` chunks (gAMA, PLTE, ...) before the
-/// data, optionally Adam7-interlaced. Every row uses filter 0.
-std::string buildPng(int width, int height, int bit_depth, int color_type, int bytes_per_pixel,
-                     const std::vector<std::uint8_t>& samples, const std::string& extra = "", bool adam7 = false) {
-  std::string ihdr;
-  for (std::uint32_t v : {static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height)})
-    for (int i = 3; i >= 0; --i) ihdr.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
-  ihdr += {static_cast<char>(bit_depth), static_cast<char>(color_type), 0, 0, static_cast<char>(adam7 ? 1 : 0)};
-  std::string raw;
-  auto addRow = [&](int y, int x0, int dx) {
-    if (x0 >= width) return;
-    raw.push_back(0);
-    for (int x = x0; x < width; x += dx)
-      raw.append(
-          reinterpret_cast<const char*>(samples.data()) + (static_cast<std::size_t>(y) * width + x) * bytes_per_pixel,
-          bytes_per_pixel);
-  };
-  if (adam7) {
-    const int pass[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4},
-                            {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}};
-    for (const auto& p : pass)
-      for (int y = p[1]; y < height; y += p[3]) addRow(y, p[0], p[2]);
-  } else {
-    for (int y = 0; y < height; ++y) addRow(y, 0, 1);
-  }
-  uLongf size = compressBound(static_cast<uLong>(raw.size()));
-  std::string z(size, '\0');
-  EXPECT_EQ(compress(reinterpret_cast<Bytef*>(&z[0]), &size, reinterpret_cast<const Bytef*>(raw.data()),
-                     static_cast<uLong>(raw.size())),
-            Z_OK);
-  z.resize(size);
-  return std::string("\x89PNG\r\n\x1a\n", 8) + pngChunk("IHDR", ihdr) + extra + pngChunk("IDAT", z) +
-         pngChunk("IEND", "");
 }
 
 /// A small Oxford-format scan with known content.

@@ -1,5 +1,6 @@
 #pragma once
-// 8-bit PNG images through libpng: the decoder the polar-scan readers share, and an atomic writer.
+// 8-bit PNG images: the decoder the polar-scan readers share (libdeflate for the files scans are,
+// libpng for every other), and an atomic writer.
 
 #include <cstdint>
 #include <string>
@@ -17,7 +18,12 @@ struct GrayImage {
   int height = 0;
   std::vector<std::uint8_t> pixels;
 };
-GrayImage readGrayPng(const std::string& path);
+/// The decoder readGrayPng uses. Fast: the 8-bit grey, non-interlaced files polar scans are are
+/// inflated by libdeflate and their row filters undone here, every other file (other layouts, and
+/// any file with something unusual or wrong in it) goes to libpng, so the pixels and the errors are
+/// libpng's either way. Libpng: libpng for every file (the reference the fast path is tested against).
+enum class PngDecoder { Fast, Libpng };
+GrayImage readGrayPng(const std::string& path, PngDecoder decoder = PngDecoder::Fast);
 /// Writes an 8-bit grayscale (channels 1) or RGB (channels 3) PNG atomically.
 void writePng(const std::string& path, int width, int height, int channels, const std::uint8_t* pixels,
               int compression_level = 6);

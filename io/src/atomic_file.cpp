@@ -1,25 +1,46 @@
 #include "radar_ndt/io/atomic_file.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 #include "radar_ndt/io/io_error.h"
 #include "read_file.h"
 
 namespace radar_ndt {
 
+void detail::readWholeFile(const std::string& path, std::string& bytes) {
+  // One read into a buffer of the file's size (a stream through a stringstream copied it twice).
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw IoError(path, "cannot open file for reading");
+  struct stat st {};
+  const bool regular = ::fstat(::fileno(f), &st) == 0 && S_ISREG(st.st_mode);
+  if (!regular && S_ISDIR(st.st_mode)) {
+    std::fclose(f);
+    throw IoError(path, "cannot open file for reading: it is a directory");
+  }
+  bytes.resize(regular ? static_cast<std::size_t>(st.st_size) : 0);  // a pipe is read to its end
+  std::size_t got = bytes.empty() ? 0 : std::fread(&bytes[0], 1, bytes.size(), f);
+  // A file that grew since fstat (or a pipe) is read to its end.
+  for (char c[4096]; !std::ferror(f);) {
+    const std::size_t more = std::fread(c, 1, sizeof c, f);
+    if (more == 0) break;
+    bytes.append(c, more);
+    got += more;
+  }
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed) throw IoError(path, "read error");
+  bytes.resize(got);
+}
+
 std::string detail::readWholeFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path, "cannot open file for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw IoError(path, "read error");
-  return ss.str();
+  std::string bytes;
+  readWholeFile(path, bytes);
+  return bytes;
 }
 
 void writeFileAtomically(const std::string& path, const std::string& content) {

@@ -38,7 +38,8 @@ bool stemAsStamp(const std::string& path, std::int64_t& stamp) {
 }  // namespace
 
 PolarScan readOxfordPolarPng(const std::string& path, const OxfordPolarOptions& options) {
-  const GrayImage img = readGrayPng(path);
+  thread_local GrayImage img;  // decoded scan after scan into the same storage
+  readGrayPng(path, img);
   if (img.width <= kOxfordMetaBytes)
     throw IoError(path, "image is " + std::to_string(img.width) +
                             " pixels wide: an Oxford radar row needs 11 metadata bytes and the range bins");

@@ -123,15 +123,14 @@ bool decodePngSamples(PngReadContext& ctx, bool& header_done) {
   return true;
 }
 
-GrayImage decodeGrayPng(const std::string& path, const std::string& data, PngDecoder decoder) {
+void decodeGrayPng(const std::string& path, const std::string& data, PngDecoder decoder, GrayImage& out) {
   static const unsigned char kSignature[8] = {137, 80, 78, 71, 13, 10, 26, 10};
   if (data.empty()) throw IoError(path, "empty file, expected a PNG image");
   if (data.size() < 8 || std::memcmp(data.data(), kSignature, 8) != 0)
     throw IoError(path, "not a PNG file (bad signature)");
-  GrayImage out;
   if (decoder == PngDecoder::Fast &&
       detail::decodeCanonicalGrayPng(data, kMaxPixels, kMaxInflation, out.width, out.height, out.pixels))
-    return out;
+    return;
   PngReadContext ctx;
   ctx.data = &data;
   bool header_done = false;
@@ -144,7 +143,7 @@ GrayImage decodeGrayPng(const std::string& path, const std::string& data, PngDec
   out.height = static_cast<int>(ctx.height);
   if (ctx.channels == 1) {
     out.pixels = std::move(ctx.samples);
-    return out;
+    return;
   }
   // A colour (or palette) file is taken when it is grey, as tools that write every image as RGB
   // leave it; real colour cannot be a radar scan.
@@ -158,7 +157,6 @@ GrayImage decodeGrayPng(const std::string& path, const std::string& data, PngDec
                               std::to_string(p[0]) + "," + std::to_string(p[1]) + "," + std::to_string(p[2]) + ")");
     out.pixels[i] = p[0];
   }
-  return out;
 }
 
 // libpng's classic writer: its error pointer is the message buffer, its io pointer the output.
@@ -197,8 +195,16 @@ bool encodePng(std::string& out, int width, int height, int channels, const std:
 
 }  // namespace
 
+void readGrayPng(const std::string& path, GrayImage& image, PngDecoder decoder) {
+  thread_local std::string bytes;  // the file, its storage kept from one scan to the next
+  detail::readWholeFile(path, bytes);
+  decodeGrayPng(path, bytes, decoder, image);
+}
+
 GrayImage readGrayPng(const std::string& path, PngDecoder decoder) {
-  return decodeGrayPng(path, detail::readWholeFile(path), decoder);
+  GrayImage image;
+  readGrayPng(path, image, decoder);
+  return image;
 }
 
 void writePng(const std::string& path, int width, int height, int channels, const std::uint8_t* pixels,

@@ -17,7 +17,8 @@ constexpr double kTwoPi = 2.0 * kPi;
 }  // namespace
 
 PolarScan readRadiatePolarPng(const std::string& path, std::int64_t frame_time_us, const RadiatePolarOptions& options) {
-  const GrayImage img = readGrayPng(path);
+  thread_local GrayImage img;  // decoded scan after scan into the same storage
+  readGrayPng(path, img);
   if (options.expected_azimuths > 0 && img.width != options.expected_azimuths)
     throw IoError(path, "image is " + std::to_string(img.width) + " pixels wide, expected " +
                             std::to_string(options.expected_azimuths) + " azimuth columns");

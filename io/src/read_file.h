@@ -7,6 +7,8 @@ namespace detail {
 
 /// Throws IoError naming the file when it cannot be opened or read.
 std::string readWholeFile(const std::string& path);
+/// The same into `bytes`, reusing its storage.
+void readWholeFile(const std::string& path, std::string& bytes);
 
 }  // namespace detail
 }  // namespace radar_ndt

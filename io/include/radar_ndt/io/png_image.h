@@ -24,6 +24,8 @@ struct GrayImage {
 /// libpng's either way. Libpng: libpng for every file (the reference the fast path is tested against).
 enum class PngDecoder { Fast, Libpng };
 GrayImage readGrayPng(const std::string& path, PngDecoder decoder = PngDecoder::Fast);
+/// The same into `image`, reusing its storage (a reader that decodes scan after scan allocates once).
+void readGrayPng(const std::string& path, GrayImage& image, PngDecoder decoder = PngDecoder::Fast);
 /// Writes an 8-bit grayscale (channels 1) or RGB (channels 3) PNG atomically.
 void writePng(const std::string& path, int width, int height, int channels, const std::uint8_t* pixels,
               int compression_level = 6);

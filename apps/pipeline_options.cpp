@@ -114,7 +114,9 @@ void addPipelineOptions(po::options_description& opts) {
      ("scanning: another compensation round only when the match moved the "
      "velocity by more (m/s; yaw rate x 10 m), default " +
      num(s.odometry.compensation.tolerance)).c_str())
-    ("no-prefetch", po::bool_switch(), "scanning: decode the next scan on the main thread (timing comparison)")
+    ("threads", po::value<int>(), "scanning: threads, the next scans decoded on the others while one is matched "
+                                  "(outputs identical for any number), default 0: every core; 1: one thread")
+    ("no-prefetch", po::bool_switch(), "scanning: the same as --threads 1")
     ("quiet,q", po::bool_switch(), "no progress bar");
   // clang-format on
 }
@@ -176,7 +178,8 @@ ScanningRunOptions scanningOptions(const po::variables_map& vm) {
   if (has("bins")) o.sequence.oxford.expected_bins = vm["bins"].as<int>();
   if (has("start")) o.start = vm["start"].as<std::size_t>();
   if (has("max-cycles")) o.max_scans = vm["max-cycles"].as<std::size_t>();
-  o.prefetch = !vm["no-prefetch"].as<bool>();
+  if (has("threads")) o.threads = vm["threads"].as<int>();
+  if (vm["no-prefetch"].as<bool>()) o.threads = 1;
   o.validate();
   return o;
 }

@@ -2,7 +2,7 @@ cmake_minimum_required(VERSION 3.16)
 # radar_odometry on a sequence with bad frames (run with cmake -P): a simulated Oxford-layout
 # sequence gets a corrupt scan (not a PNG), a missing scan and a duplicated index line; the app must exit 0,
 # name each problem, bridge the two unreadable scans (one pose per listed scan) and leave no
-# temporary file beside its output.
+# temporary file beside its output; with one thread and with three it writes the same bytes.
 file(REMOVE_RECURSE "${OUT}")
 execute_process(COMMAND "${SIM}" --type scanning --frames 12 --start 40 --out "${OUT}/seq" -q RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
@@ -42,3 +42,16 @@ file(GLOB leftovers "${OUT}/*.tmp.*")
 if(leftovers)
   message(FATAL_ERROR "temporary files left: ${leftovers}")
 endif()
+foreach(threads 1 3)
+  execute_process(COMMAND "${APP}" --format oxford --sequence "${OUT}/seq" -q --threads ${threads}
+                          --out "${OUT}/traj_${threads}.txt" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(FIND "${out}${err}" "3 problems" at)
+  if(NOT rc EQUAL 0 OR at EQUAL -1)
+    message(FATAL_ERROR "--threads ${threads}: exit ${rc}, expected '3 problems' in: ${out}${err}")
+  endif()
+  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files "${OUT}/traj.txt" "${OUT}/traj_${threads}.txt"
+                  RESULT_VARIABLE differ)
+  if(NOT differ EQUAL 0)
+    message(FATAL_ERROR "--threads ${threads} wrote another trajectory than the default")
+  endif()
+endforeach()

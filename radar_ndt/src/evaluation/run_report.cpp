@@ -73,6 +73,9 @@ std::string failureText(const ScanningRunResult& r) {
 double realTimeFactor(const AutomotiveRunResult& r) {
   return r.median_total_ms > 0 ? 1000.0 * r.period_s / r.median_total_ms : 0.0;
 }
+std::string threadsText(int threads) {
+  return threads == 1 ? "one thread" : std::to_string(threads) + " threads";
+}
 double realTimeFactor(const ScanningRunResult& r) {
   return r.period_s > 0 ? r.scans_per_second * r.period_s : 0.0;
 }
@@ -197,7 +200,7 @@ std::string summaryText(const ScanningRunResult& r) {
       "  ms per scan (median, one core): decode %.2f, front-end %.2f, match %.2f, total %.2f; end to end %.1f scans/s "
       "(%s), %.0fx real time\n",
       r.median_ms.read_ms, r.median_ms.front_end_ms, r.median_ms.match_ms, r.median_total_ms, r.scans_per_second,
-      r.prefetch ? "decode on a second thread" : "one thread", realTimeFactor(r));
+      threadsText(r.threads).c_str(), realTimeFactor(r));
   return s;
 }
 

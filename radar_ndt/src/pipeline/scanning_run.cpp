@@ -7,8 +7,7 @@
 #include <stdexcept>
 
 #include "detail/run_timing.h"
-#include "pipeline/scan_prefetch.h"
-#include "radar_ndt/frontend/voxel_merge.h"
+#include "pipeline/scan_pipeline.h"
 #include "radar_ndt/odometry/motion_compensation.h"
 #include "radar_ndt/se2.h"
 
@@ -17,40 +16,6 @@ namespace radar_ndt {
 using detail::Clock;
 using detail::median;
 using detail::msBetween;
-namespace detail {
-PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end, std::size_t k,
-                         double voxel) {
-  PreparedScan p;
-  p.index = k;
-  try {
-    const auto t0 = Clock::now();
-    const PolarScan scan = sequence.load(k);
-    // A scan without a noise floor is a dead sensor, not a view of an empty world: a real scan's
-    // noise floor lights most of its bins (Oxford: over half of them; RADIATE: nearly all).
-    // Counting stops once enough bins are lit: a live scan is told after a few thousand bytes.
-    const std::size_t needed = (scan.power.size() + 999) / 1000;  // lit · 1000 ≥ size
-    std::size_t lit = 0;
-    for (auto it = scan.power.begin(); it != scan.power.end() && lit < needed; ++it) lit += *it > 0;
-    if (lit < needed)
-      throw std::runtime_error(sequence.path(k) + ": " + std::to_string(lit) + " of " +
-                               std::to_string(scan.power.size()) + " bins above 0: no noise floor, a dead sensor");
-    const auto t1 = Clock::now();
-    p.cloud.reset(new pcl::PointCloud<PointRadar>);
-    front_end.compute(scan, *p.cloud);
-    if (voxel > 0) {
-      pcl::PointCloud<PointRadar>::Ptr merged(new pcl::PointCloud<PointRadar>);
-      mergeVoxels(*p.cloud, voxel, *merged);
-      p.cloud = merged;
-    }
-    p.read_ms = msBetween(t0, t1);
-    p.front_end_ms = msBetween(t1, Clock::now());
-  } catch (const std::exception& e) {
-    p.cloud.reset();
-    p.problem = e.what();
-  }
-  return p;
-}
-}  // namespace detail
 
 void ScanningRunOptions::validate() const {
   if (matcher.method == Method::Doppler || matcher.method == Method::RappNdt)
@@ -62,6 +27,7 @@ void ScanningRunOptions::validate() const {
   odometry.validate();
   if (!(pcl_voxel_size >= 0) || !std::isfinite(pcl_voxel_size))
     throw std::invalid_argument("ScanningRunOptions: pcl_voxel_size must be >= 0 (0: full scans)");
+  if (threads < 0) throw std::invalid_argument("ScanningRunOptions: threads must be >= 0 (0: every core)");
 }
 
 namespace {
@@ -84,7 +50,7 @@ ScanningRunResult startResult(const ScanningSequence& sequence, const ScanningRu
   result.sequence = sequence.name();
   result.format = sequence.format();
   result.method = options.matcher.method;
-  result.prefetch = options.prefetch;
+  result.threads = detail::resolveThreads(options.threads);
   result.period_s = sequence.periodSeconds();
   return result;
 }
@@ -147,33 +113,32 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
   const std::size_t end =
       options.max_scans > 0 ? std::min(sequence.size(), options.start + options.max_scans) : sequence.size();
   const std::size_t n = end - options.start;
-  const PowerThreshold front_end(options.front_end);  // used by one thread at a time (the prefetcher's chain)
   ScanningOdometry odometry(options.odometry, makeMatcher(options.matcher));
   ScanningRunResult result = startResult(sequence, options);
   ScanSamples samples;
   const auto wall0 = Clock::now();
   const double voxel = options.matcher.method == Method::PwNdt ? 0.0 : options.pcl_voxel_size;
-  detail::ScanPrefetcher prefetcher(sequence, front_end, voxel, options.prefetch);
-  if (n > 0) prefetcher.start(options.start);
   std::int64_t last_stamp_us = 0;  // of the last scan that was matched (or dead-reckoned)
-  for (std::size_t k = options.start; k < end; ++k) {
-    detail::PreparedScan p = prefetcher.take();
-    if (k + 1 < end) prefetcher.start(k + 1);
-    if (!p.cloud) {
-      result.problems.push_back("scan " + std::to_string(k) + ": " + p.problem + " (bridged with the motion model)");
-      odometry.bridge(sequence.stamp(k));
-    } else {
-      const OdometryStep& step = odometry.addScan(ScanFrame{sequence.stamp(k), p.cloud});
-      const std::string problem = problemOf(step, options.odometry);
-      if (!problem.empty())
-        result.problems.push_back("scan " + std::to_string(k) + ": " + sequence.path(k) + ": " + problem);
-      samples.add(p, step);
-      if (on_scan && step.status != StepStatus::Skipped)
-        on_scan(k, step, atReferenceTime(*p.cloud, step, last_stamp_us, options.odometry.compensation.enabled));
-      if (step.status != StepStatus::Skipped) last_stamp_us = step.timestamp_us;
-    }
-    if (progress) progress(k - options.start + 1, n);
-  }
+  // Scans are prepared on the worker threads and matched here in order, one at a time.
+  detail::forEachPreparedScan(
+      sequence, options.front_end, voxel, options.start, end, result.threads, [&](detail::PreparedScan& p) {
+        const std::size_t k = p.index;
+        if (!p.cloud) {
+          result.problems.push_back("scan " + std::to_string(k) + ": " + p.problem +
+                                    " (bridged with the motion model)");
+          odometry.bridge(sequence.stamp(k));
+        } else {
+          const OdometryStep& step = odometry.addScan(ScanFrame{sequence.stamp(k), p.cloud});
+          const std::string problem = problemOf(step, options.odometry);
+          if (!problem.empty())
+            result.problems.push_back("scan " + std::to_string(k) + ": " + sequence.path(k) + ": " + problem);
+          samples.add(p, step);
+          if (on_scan && step.status != StepStatus::Skipped)
+            on_scan(k, step, atReferenceTime(*p.cloud, step, last_stamp_us, options.odometry.compensation.enabled));
+          if (step.status != StepStatus::Skipped) last_stamp_us = step.timestamp_us;
+        }
+        if (progress) progress(k - options.start + 1, n);
+      });
   result.wall_s = std::chrono::duration<double>(Clock::now() - wall0).count();
   result.scans_per_second = result.wall_s > 0 ? static_cast<double>(n) / result.wall_s : 0.0;
   result.median_ms = {median(samples.read), median(samples.front_end), 0.0, median(samples.match)};

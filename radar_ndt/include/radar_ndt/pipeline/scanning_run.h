@@ -1,7 +1,8 @@
 #pragma once
 // One odometry run over a scanning-radar sequence (paper, Sec. III-A, III-E, IV-A), every stage
-// timed: PNG decode → power threshold (PowerThreshold) → match (ScanningOdometry). Decoding and
-// thresholding the next scan run on a second thread while this one is matched. What
+// timed: PNG decode → power threshold (PowerThreshold) → match (ScanningOdometry). The next scans
+// are decoded and thresholded on worker threads while this one is matched, the matches in order on
+// one thread at a time (the outputs do not depend on the number of threads). What
 // `radar_odometry --format oxford|radiate` runs. A scan that cannot be read is reported with its
 // file and bridged; the next one is matched to the keyframe over the longer interval.
 
@@ -28,7 +29,9 @@ struct ScanningRunOptions {
   ScanningOdometryOptions odometry;
   std::size_t start = 0;      ///< first scan used
   std::size_t max_scans = 0;  ///< 0: all
-  bool prefetch = true;       ///< decode and threshold the next scan on a second thread
+  /// Threads: the next scans decoded and thresholded on the others while one is matched, the
+  /// matches in order. 0: every core the process may use; 1: one thread, nothing ahead.
+  int threads = 0;
   /// PCL's matchers (pcl-ndt, pcl-icp) get each thresholded scan merged into voxels of this size
   /// (m; centroid, mean time offset, strongest power), as ours merges its source internally;
   /// 0: the full scans (about 4x slower for them). Ours always gets the full scans.
@@ -56,9 +59,9 @@ struct ScanningRunResult {
   StageTimes median_ms;         ///< per scan: read = PNG decode, front_end = threshold, match (submap: 0)
   double median_total_ms = 0;   ///< median of per-scan decode + threshold + match (one core)
   double wall_s = 0;            ///< the whole run, wall clock
-  double scans_per_second = 0;  ///< end to end, with the prefetch thread
+  double scans_per_second = 0;  ///< end to end, on `threads` threads
   double median_points = 0;     ///< thresholded points per scan
-  bool prefetch = true;         ///< decoded on a second thread
+  int threads = 1;              ///< threads the run used
   /// Index lines left out, scans that could not be read or have no noise floor (a dead sensor;
   /// bridged), and scans no match passed for (constant-velocity motion), each naming its file and
   /// the reason.
@@ -66,7 +69,9 @@ struct ScanningRunResult {
 };
 
 /// Called after each scan with its index, its step and its points at the scan's reference time
-/// (motion-compensated with the step's velocity when compensation is on), e.g. to build a map.
+/// (motion-compensated with the step's velocity when compensation is on), e.g. to build a map. The
+/// callbacks (this and progress) are called in scan order, one at a time, from one of the run's
+/// threads (not always the caller's).
 using ScanCallback = std::function<void(std::size_t, const OdometryStep&, const pcl::PointCloud<PointRadar>&)>;
 
 ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const ScanningRunOptions& options,

@@ -1,0 +1,92 @@
+#include "pipeline/scan_pipeline.h"
+
+#include <stdexcept>
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/info.h>
+#include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
+
+#include "detail/run_timing.h"
+#include "radar_ndt/frontend/voxel_merge.h"
+
+namespace radar_ndt {
+namespace detail {
+
+PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end, std::size_t k,
+                         double voxel) {
+  PreparedScan p;
+  p.index = k;
+  try {
+    const auto t0 = Clock::now();
+    const PolarScan scan = sequence.load(k);
+    // A scan without a noise floor is a dead sensor, not a view of an empty world: a real scan's
+    // noise floor lights most of its bins (Oxford: over half of them; RADIATE: nearly all).
+    // Counting stops once enough bins are lit: a live scan is told after a few thousand bytes.
+    const std::size_t needed = (scan.power.size() + 999) / 1000;  // lit · 1000 ≥ size
+    std::size_t lit = 0;
+    for (auto it = scan.power.begin(); it != scan.power.end() && lit < needed; ++it) lit += *it > 0;
+    if (lit < needed)
+      throw std::runtime_error(sequence.path(k) + ": " + std::to_string(lit) + " of " +
+                               std::to_string(scan.power.size()) + " bins above 0: no noise floor, a dead sensor");
+    const auto t1 = Clock::now();
+    p.cloud.reset(new pcl::PointCloud<PointRadar>);
+    front_end.compute(scan, *p.cloud);
+    if (voxel > 0) {
+      pcl::PointCloud<PointRadar>::Ptr merged(new pcl::PointCloud<PointRadar>);
+      mergeVoxels(*p.cloud, voxel, *merged);
+      p.cloud = merged;
+    }
+    p.read_ms = msBetween(t0, t1);
+    p.front_end_ms = msBetween(t1, Clock::now());
+  } catch (const std::exception& e) {
+    p.cloud.reset();
+    p.problem = e.what();
+  }
+  return p;
+}
+
+int resolveThreads(int threads) {
+  if (threads < 0) throw std::invalid_argument("threads must be >= 0 (0: every core), not " + std::to_string(threads));
+  return threads > 0 ? threads : tbb::info::default_concurrency();
+}
+
+void forEachPreparedScan(const ScanningSequence& sequence, const PowerThresholdOptions& front_end, double voxel,
+                         std::size_t begin, std::size_t end, int threads,
+                         const std::function<void(PreparedScan&)>& consume) {
+  threads = resolveThreads(threads);
+  if (threads == 1) {
+    const PowerThreshold threshold(front_end);
+    for (std::size_t k = begin; k < end; ++k) {
+      PreparedScan p = prepareScan(sequence, threshold, k, voxel);
+      consume(p);
+    }
+    return;
+  }
+  // A PowerThreshold caches the scan geometry it last saw: one per thread.
+  tbb::enumerable_thread_specific<PowerThreshold> thresholds(front_end);
+  // Scans in flight: enough to keep every thread decoding while one matches, few enough that
+  // memory does not grow with the sequence.
+  const std::size_t tokens = 2 * static_cast<std::size_t>(threads);
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    std::size_t next = begin;
+    tbb::parallel_pipeline(tokens,
+                           tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
+                                                               [&](tbb::flow_control& control) -> std::size_t {
+                                                                 if (next >= end) {
+                                                                   control.stop();
+                                                                   return 0;
+                                                                 }
+                                                                 return next++;
+                                                               }) &
+                               tbb::make_filter<std::size_t, PreparedScan>(
+                                   tbb::filter_mode::parallel,
+                                   [&](std::size_t k) { return prepareScan(sequence, thresholds.local(), k, voxel); }) &
+                               tbb::make_filter<PreparedScan, void>(tbb::filter_mode::serial_in_order,
+                                                                    [&](PreparedScan p) { consume(p); }));
+  });
+}
+
+}  // namespace detail
+}  // namespace radar_ndt

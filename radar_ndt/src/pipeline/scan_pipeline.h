@@ -1,0 +1,42 @@
+#pragma once
+// Internal to the scanning runner: the ordered pipeline. Scans are decoded and thresholded (and,
+// for PCL's matchers, voxel-merged) on worker threads, several at a time, and handed to the matcher
+// one at a time in sequence order, so the odometry sees exactly what a single thread would give it.
+
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include <pcl/point_cloud.h>
+
+#include "radar_ndt/frontend/power_threshold.h"
+#include "radar_ndt/pipeline/scanning_sequence.h"
+
+namespace radar_ndt {
+namespace detail {
+
+/// A decoded and thresholded scan, or why it could not be.
+struct PreparedScan {
+  std::size_t index = 0;
+  pcl::PointCloud<PointRadar>::Ptr cloud;  ///< null when the scan could not be read
+  std::string problem;
+  double read_ms = 0, front_end_ms = 0;
+};
+
+/// Scan k of `sequence` through `front_end`, merged into voxels of `voxel` m when > 0.
+PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end, std::size_t k,
+                         double voxel);
+
+/// The number of threads `threads` asks for: itself when positive, every core the process may use
+/// when 0.
+int resolveThreads(int threads);
+
+/// Prepares scans [begin, end) of `sequence` on `threads` threads (1: each on the caller's thread
+/// just before it is consumed) and calls `consume` with each, in order, one call at a time (on any
+/// of the threads). An exception from `consume` stops the pipeline and is rethrown.
+void forEachPreparedScan(const ScanningSequence& sequence, const PowerThresholdOptions& front_end, double voxel,
+                         std::size_t begin, std::size_t end, int threads,
+                         const std::function<void(PreparedScan&)>& consume);
+
+}  // namespace detail
+}  // namespace radar_ndt

@@ -114,9 +114,10 @@ void addPipelineOptions(po::options_description& opts) {
      ("scanning: another compensation round only when the match moved the "
      "velocity by more (m/s; yaw rate x 10 m), default " +
      num(s.odometry.compensation.tolerance)).c_str())
-    ("threads", po::value<int>(), "scanning: threads, the next scans decoded on the others while one is matched "
-                                  "(outputs identical for any number), default 0: every core; 1: one thread")
-    ("no-prefetch", po::bool_switch(), "scanning: the same as --threads 1")
+    ("threads", po::value<int>(), "threads: the next scans (cycles) read and through the front-end on the others "
+                                  "while one is matched (outputs identical for any number), default 0: every core; "
+                                  "1: one thread")
+    ("no-prefetch", po::bool_switch(), "the same as --threads 1")
     ("quiet,q", po::bool_switch(), "no progress bar");
   // clang-format on
 }
@@ -147,6 +148,8 @@ AutomotiveRunOptions automotiveOptions(const po::variables_map& vm) {
   o.odometry.gate.enabled = !vm["no-gate"].as<bool>();
   if (has("grid")) o.odometry.grid = vm["grid"].as<double>();
   if (has("max-cycles")) o.max_cycles = vm["max-cycles"].as<std::size_t>();
+  if (has("threads")) o.threads = vm["threads"].as<int>();
+  if (vm["no-prefetch"].as<bool>()) o.threads = 1;
   o = withMethod(o, parseMethod(vm["method"].as<std::string>()));
   o.validate();
   return o;

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "detail/run_timing.h"
+#include "pipeline/ordered_pipeline.h"
 
 namespace radar_ndt {
 
@@ -32,6 +33,7 @@ void AutomotiveRunOptions::validate() const {
   sequence.validate();
   front_end.validate();
   odometry.validate();
+  if (threads < 0) throw std::invalid_argument("AutomotiveRunOptions: threads must be >= 0 (0: every core)");
 }
 
 AutomotiveRunOptions withMethod(AutomotiveRunOptions options, Method method) {
@@ -91,6 +93,28 @@ void countFrontEnd(const ProcessedCycle& processed, AutomotiveRunResult& result,
                                                  : std::numeric_limits<double>::quiet_NaN());
 }
 
+/// A cycle read and through the front-end without a fallback ego-velocity (what a worker thread
+/// can do ahead of the odometry), with the problems met reading it.
+struct PreparedCycle {
+  std::size_t index = 0;
+  RadarCycle cycle;
+  ProcessedCycle processed;
+  std::vector<std::string> problems;
+  double read_ms = 0, front_end_ms = 0;
+};
+
+PreparedCycle prepareCycle(const NuScenesRadarSequence& sequence, const AutomotiveFrontEnd& front_end, std::size_t k) {
+  PreparedCycle p;
+  p.index = k;
+  const auto t0 = Clock::now();
+  p.cycle = sequence.load(k, &p.problems);
+  const auto t1 = Clock::now();
+  p.processed = front_end.process(p.cycle);
+  p.read_ms = ms(t0, t1);
+  p.front_end_ms = ms(t1, Clock::now());
+  return p;
+}
+
 /// A cycle a matcher could not match for too few points, as a problem naming it; "" otherwise.
 std::string problemOf(const OdometryStep& step, const AutomotiveOdometryOptions& options) {
   if (step.status != StepStatus::DeadReckoned || !step.too_few_points) return "";
@@ -120,25 +144,29 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
   CycleSamples samples;
   EgoVelocity last_valid;
   bool have_valid = false;
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto t0 = Clock::now();
-    std::vector<std::string> problems;
-    const RadarCycle cycle = sequence.load(k, &problems);
-    const auto t1 = Clock::now();
-    const ProcessedCycle processed = front_end.process(cycle, have_valid ? &last_valid : nullptr);
-    const auto t2 = Clock::now();
-    countFrontEnd(processed, result, samples);
-    if (processed.ego.valid) {
-      last_valid = processed.ego;
-      have_valid = true;
-    }
-    const OdometryStep& step = odometry.add(processed);
-    const std::string problem = problemOf(step, options.odometry);
-    if (!problem.empty()) problems.push_back(problem);
-    for (const auto& p : problems) result.problems.push_back("cycle " + std::to_string(k) + ": " + p);
-    samples.add(ms(t0, t1), ms(t1, t2), step);
-    if (progress) progress(k + 1, n);
-  }
+  // Cycles are read and through the front-end on the worker threads, the odometry takes them here in
+  // order. A cycle whose own ego-velocity fit failed is processed again with the last valid one as
+  // the fallback, which only the order knows: the same result as one thread gives.
+  detail::runOrdered<PreparedCycle>(
+      0, n, options.threads, [&](std::size_t k) { return prepareCycle(sequence, front_end, k); },
+      [&](PreparedCycle& p) {
+        if (!p.processed.ego.valid && have_valid) {
+          const auto t = Clock::now();
+          p.processed = front_end.process(p.cycle, &last_valid);
+          p.front_end_ms += ms(t, Clock::now());
+        }
+        countFrontEnd(p.processed, result, samples);
+        if (p.processed.ego.valid) {
+          last_valid = p.processed.ego;
+          have_valid = true;
+        }
+        const OdometryStep& step = odometry.add(p.processed);
+        const std::string problem = problemOf(step, options.odometry);
+        if (!problem.empty()) p.problems.push_back(problem);
+        for (const auto& q : p.problems) result.problems.push_back("cycle " + std::to_string(p.index) + ": " + q);
+        samples.add(p.read_ms, p.front_end_ms, step);
+        if (progress) progress(p.index + 1, n);
+      });
   result.median_ms = {median(samples.read), median(samples.front_end), median(samples.submap), median(samples.match)};
   result.mean_ms = {mean(samples.read), mean(samples.front_end), mean(samples.submap), mean(samples.match)};
   result.median_total_ms = median(samples.total);

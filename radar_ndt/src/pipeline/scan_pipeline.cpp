@@ -3,11 +3,9 @@
 #include <stdexcept>
 
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/info.h>
-#include <tbb/parallel_pipeline.h>
-#include <tbb/task_arena.h>
 
 #include "detail/run_timing.h"
+#include "pipeline/ordered_pipeline.h"
 #include "radar_ndt/frontend/voxel_merge.h"
 
 namespace radar_ndt {
@@ -46,46 +44,13 @@ PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold&
   return p;
 }
 
-int resolveThreads(int threads) {
-  if (threads < 0) throw std::invalid_argument("threads must be >= 0 (0: every core), not " + std::to_string(threads));
-  return threads > 0 ? threads : tbb::info::default_concurrency();
-}
-
 void forEachPreparedScan(const ScanningSequence& sequence, const PowerThresholdOptions& front_end, double voxel,
                          std::size_t begin, std::size_t end, int threads,
                          const std::function<void(PreparedScan&)>& consume) {
-  threads = resolveThreads(threads);
-  if (threads == 1) {
-    const PowerThreshold threshold(front_end);
-    for (std::size_t k = begin; k < end; ++k) {
-      PreparedScan p = prepareScan(sequence, threshold, k, voxel);
-      consume(p);
-    }
-    return;
-  }
   // A PowerThreshold caches the scan geometry it last saw: one per thread.
   tbb::enumerable_thread_specific<PowerThreshold> thresholds(front_end);
-  // Scans in flight: enough to keep every thread decoding while one matches, few enough that
-  // memory does not grow with the sequence.
-  const std::size_t tokens = 2 * static_cast<std::size_t>(threads);
-  tbb::task_arena arena(threads);
-  arena.execute([&] {
-    std::size_t next = begin;
-    tbb::parallel_pipeline(tokens,
-                           tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
-                                                               [&](tbb::flow_control& control) -> std::size_t {
-                                                                 if (next >= end) {
-                                                                   control.stop();
-                                                                   return 0;
-                                                                 }
-                                                                 return next++;
-                                                               }) &
-                               tbb::make_filter<std::size_t, PreparedScan>(
-                                   tbb::filter_mode::parallel,
-                                   [&](std::size_t k) { return prepareScan(sequence, thresholds.local(), k, voxel); }) &
-                               tbb::make_filter<PreparedScan, void>(tbb::filter_mode::serial_in_order,
-                                                                    [&](PreparedScan p) { consume(p); }));
-  });
+  runOrdered<PreparedScan>(
+      begin, end, threads, [&](std::size_t k) { return prepareScan(sequence, thresholds.local(), k, voxel); }, consume);
 }
 
 }  // namespace detail

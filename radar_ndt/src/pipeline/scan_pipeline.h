@@ -27,13 +27,8 @@ struct PreparedScan {
 PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end, std::size_t k,
                          double voxel);
 
-/// The number of threads `threads` asks for: itself when positive, every core the process may use
-/// when 0.
-int resolveThreads(int threads);
-
-/// Prepares scans [begin, end) of `sequence` on `threads` threads (1: each on the caller's thread
-/// just before it is consumed) and calls `consume` with each, in order, one call at a time (on any
-/// of the threads). An exception from `consume` stops the pipeline and is rethrown.
+/// Prepares scans [begin, end) of `sequence` on `threads` threads (runOrdered, ordered_pipeline.h)
+/// and calls `consume` with each, in order, one call at a time.
 void forEachPreparedScan(const ScanningSequence& sequence, const PowerThresholdOptions& front_end, double voxel,
                          std::size_t begin, std::size_t end, int threads,
                          const std::function<void(PreparedScan&)>& consume);

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "detail/run_timing.h"
+#include "pipeline/ordered_pipeline.h"
 #include "pipeline/scan_pipeline.h"
 #include "radar_ndt/odometry/motion_compensation.h"
 #include "radar_ndt/se2.h"

@@ -1,7 +1,8 @@
 #pragma once
 // One odometry run over a nuScenes-layout scene, every stage timed: read → front-end (covariances,
 // Doppler ego-velocity, moving detections removed, sweeps to the reference time) → submap →
-// match. What `radar_odometry --format nuscenes` runs and what its paper-table mode repeats.
+// match. What `radar_odometry --format nuscenes` runs and what its paper-table mode repeats. The
+// next cycles are read and processed on worker threads while one is matched, in order.
 
 #include <functional>
 #include <string>
@@ -23,6 +24,9 @@ struct AutomotiveRunOptions {
   AutomotiveFrontEndOptions front_end;
   AutomotiveOdometryOptions odometry;
   std::size_t max_cycles = 0;  ///< 0: all
+  /// Threads: the next cycles read and through the front-end on the others while one is matched,
+  /// the matches in order (the outputs do not depend on it). 0: every core; 1: one thread.
+  int threads = 0;
   /// Throws std::invalid_argument naming the first setting out of range.
   void validate() const;
 };
@@ -51,7 +55,8 @@ struct AutomotiveRunResult {
   std::vector<double> ego_speed;       ///< Doppler ego speed per cycle (m/s), NaN when invalid
 };
 
-/// `progress(done, total)` is called after each cycle when given.
+/// `progress(done, total)` is called after each cycle when given, in order, one call at a time, from
+/// one of the run's threads.
 AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
                                           const AutomotiveRunOptions& options,
                                           const std::function<void(std::size_t, std::size_t)>& progress = nullptr);

@@ -1,7 +1,9 @@
 // Power thresholding front-end: constructed scans (positions, power, covariance orientation, time
 // offsets) and the real RADIATE scans (point counts, power range).
+#include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <thread>
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
@@ -147,4 +149,35 @@ TEST(PowerThreshold, RealRadiateScans) {
     EXPECT_LT(st.p50, st.p90);
     EXPECT_LT(st.p90, st.p99);
   }
+}
+
+TEST(PowerThreshold, ThreadsShareOneInstanceAndItsGeometry) {
+  // The pipelines' workers call compute on one instance at once, on scans of two layouts in turn
+  // (each change rebuilds the cached geometry under the others): every cloud is the one a fresh
+  // instance gives.
+  PolarScan fine = constructedScan(20, {{10, 300}, {200, 900}});
+  PolarScan coarse = fine;
+  coarse.range_resolution = 0.0596;  // another layout: the cache is rebuilt whenever it alternates
+  std::vector<std::size_t> reference;
+  for (const PolarScan* s : {&fine, &coarse}) {
+    pcl::PointCloud<PointRadar> cloud;
+    PowerThreshold(PowerThresholdOptions()).compute(*s, cloud);
+    reference.push_back(cloud.size());
+    ASSERT_GT(cloud.size(), 0u);
+  }
+  ASSERT_NE(reference[0], reference[1]);
+  const PowerThreshold shared{PowerThresholdOptions()};
+  std::atomic<int> wrong{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      for (int i = 0; i < 12; ++i) {
+        const int which = (t + i) % 2;
+        pcl::PointCloud<PointRadar> cloud;
+        shared.compute(which ? coarse : fine, cloud);
+        wrong += cloud.size() != reference[static_cast<std::size_t>(which)];
+      }
+    });
+  for (std::thread& t : threads) t.join();
+  EXPECT_EQ(wrong.load(), 0);
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <mutex>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -115,17 +116,33 @@ void PowerThresholdOptions::validate() const {
   if (!(beam_width_deg > 0) || !std::isfinite(beam_width_deg)) fail("beam_width_deg must be > 0");
 }
 
-PowerThreshold::PowerThreshold(const PowerThresholdOptions& options) : options_(options) {
+/// The geometry last built, behind a lock: a thread that finds it matching its scan takes a
+/// reference to it; a new layout replaces it without freeing what another thread still reads.
+struct PowerThreshold::GeometryCache {
+  std::mutex mutex;
+  std::shared_ptr<const Geometry> geometry;
+};
+
+PowerThreshold::PowerThreshold(const PowerThresholdOptions& options)
+    : options_(options), cache_(std::make_shared<GeometryCache>()) {
   options_.validate();
 }
 
-const PowerThreshold::Geometry& PowerThreshold::geometry(const PolarScan& scan) const {
+std::shared_ptr<const PowerThreshold::Geometry> PowerThreshold::geometry(const PolarScan& scan) const {
   if (scan.azimuths < 2 || scan.bins < 2)
     throw std::invalid_argument("PowerThreshold: scan has fewer than 2 azimuths or bins");
   if (scan.azimuths > 65535) throw std::invalid_argument("PowerThreshold: more than 65535 azimuths");
-  if (geometry_ && geometry_->bins == scan.bins && geometry_->range_resolution == scan.range_resolution &&
-      geometry_->range_offset_bins == scan.range_offset_bins && geometry_->angles == scan.angle)
-    return *geometry_;
+  // Built under the lock: a layout changes once a sequence (the first scan), so the others wait once.
+  std::lock_guard<std::mutex> lock(cache_->mutex);
+  const std::shared_ptr<const Geometry>& cached = cache_->geometry;
+  if (cached && cached->bins == scan.bins && cached->range_resolution == scan.range_resolution &&
+      cached->range_offset_bins == scan.range_offset_bins && cached->angles == scan.angle)
+    return cached;
+  cache_->geometry = buildGeometry(scan);
+  return cache_->geometry;
+}
+
+std::shared_ptr<const PowerThreshold::Geometry> PowerThreshold::buildGeometry(const PolarScan& scan) const {
   auto g = std::make_shared<Geometry>();
   g->bins = scan.bins;
   g->range_resolution = scan.range_resolution;
@@ -175,8 +192,7 @@ const PowerThreshold::Geometry& PowerThreshold::geometry(const PolarScan& scan) 
     g->wa[i] = x.wa;
     g->wb[i] = x.wb;
   }
-  geometry_ = g;
-  return *geometry_;
+  return g;
 }
 
 namespace {
@@ -253,7 +269,8 @@ inline float samplePixel(const G& g, const std::uint8_t* r0, const std::uint8_t*
 }  // namespace
 
 CartesianImage PowerThreshold::cartesianImage(const PolarScan& scan) const {
-  const Geometry& g = geometry(scan);
+  const std::shared_ptr<const Geometry> shared = geometry(scan);
+  const Geometry& g = *shared;
   CartesianImage img = g.layout;
   img.power.assign(static_cast<std::size_t>(img.size) * img.size, -1.0f);
   forEachBlockPixel(g, scan, nullptr, [&](std::uint32_t i, const std::uint8_t* r0, const std::uint8_t* r1, int) {
@@ -270,7 +287,8 @@ void PowerThreshold::compute(const PolarScan& scan, pcl::PointCloud<PointRadar>&
   if (options_.cartesian) {
     // The image is never materialised: each pixel of a block that can pass is sampled and kept if
     // above the threshold. Points come out block by block (azimuth row, then range bin).
-    const Geometry& g = geometry(scan);
+    const std::shared_ptr<const Geometry> shared = geometry(scan);
+    const Geometry& g = *shared;
     const CartesianImage& img = g.layout;
     const double pixel_var = img.resolution * img.resolution / 12.0;
     const float threshold = options_.threshold;

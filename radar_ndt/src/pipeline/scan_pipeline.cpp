@@ -2,8 +2,6 @@
 
 #include <stdexcept>
 
-#include <tbb/enumerable_thread_specific.h>
-
 #include "detail/run_timing.h"
 #include "pipeline/ordered_pipeline.h"
 #include "radar_ndt/frontend/voxel_merge.h"
@@ -47,10 +45,10 @@ PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold&
 void forEachPreparedScan(const ScanningSequence& sequence, const PowerThresholdOptions& front_end, double voxel,
                          std::size_t begin, std::size_t end, int threads,
                          const std::function<void(PreparedScan&)>& consume) {
-  // A PowerThreshold caches the scan geometry it last saw: one per thread.
-  tbb::enumerable_thread_specific<PowerThreshold> thresholds(front_end);
+  // One front-end for every thread: its geometry cache (megabytes) is built once and shared.
+  const PowerThreshold threshold(front_end);
   runOrdered<PreparedScan>(
-      begin, end, threads, [&](std::size_t k) { return prepareScan(sequence, thresholds.local(), k, voxel); }, consume);
+      begin, end, threads, [&](std::size_t k) { return prepareScan(sequence, threshold, k, voxel); }, consume);
 }
 
 }  // namespace detail

@@ -44,8 +44,8 @@ struct CartesianImage {
   double y(int col) const { return (0.5 * size - col - 0.5) * resolution; }
 };
 
-/// Caches the per-pixel geometry of the last scan layout it saw, so one instance is used by one
-/// thread at a time (make one per thread; they are cheap).
+/// Caches the per-pixel geometry of the last scan layout it saw (shared by its copies). Thread-safe:
+/// threads may call compute on one instance at once (the pipelines' workers do), and share the cache.
 class PowerThreshold {
  public:
   explicit PowerThreshold(const PowerThresholdOptions& options = {});
@@ -60,10 +60,12 @@ class PowerThreshold {
 
  private:
   struct Geometry;  // per-pixel range bin and angle, cached for the last scan geometry
-  const Geometry& geometry(const PolarScan& scan) const;
+  struct GeometryCache;
+  std::shared_ptr<const Geometry> geometry(const PolarScan& scan) const;
+  std::shared_ptr<const Geometry> buildGeometry(const PolarScan& scan) const;
 
   PowerThresholdOptions options_;
-  mutable std::shared_ptr<Geometry> geometry_;
+  std::shared_ptr<GeometryCache> cache_;
 };
 
 /// Statistics of a Cartesian image, for comparing simulated scans with real ones.

@@ -3,7 +3,8 @@
 // of a whole radar_odometry run on the same data: ours, PCL's NDT and PCL's ICP through the same
 // scanning pipeline, for each thread count, with ms per stage and scans a second; --dataroot: the
 // nuScenes pipeline the same way; --growth: ours on one thread against the points per scan (by the
-// power threshold) and the range bins used (by the range limit), with an SVG plot.
+// power threshold) and the range bins used (by the range limit), with an SVG plot; --decode: the
+// PNG decoders (libpng and the fast path) on every scan of a folder.
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iomanip>
@@ -23,6 +25,7 @@
 
 #include "app_common.h"
 #include "radar_ndt/io/atomic_file.h"
+#include "radar_ndt/io/png_image.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/scanning_run.h"
 
@@ -272,6 +275,37 @@ json growth(const po::variables_map& vm, const std::string& dir, ScanFormat form
   return json{{"by_threshold", by_threshold}, {"by_range", by_range}};
 }
 
+/// The PNG decoders on every scan of `dir`, one thread: median ms of each, and whether they agree.
+json decodeTable(const std::string& dir, int repeats) {
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().extension() == ".png") files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw std::invalid_argument("--decode: no .png file in " + dir);
+  json rows = json::array();
+  std::vector<double> ms[2];
+  bool same = true;
+  GrayImage image[2];
+  for (int r = 0; r < std::max(repeats, 3); ++r)
+    for (const std::string& f : files)
+      for (int d = 0; d < 2; ++d) {
+        const auto t0 = std::chrono::steady_clock::now();
+        readGrayPng(f, image[d], d == 0 ? PngDecoder::Libpng : PngDecoder::Fast);
+        ms[d].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        if (d == 1) same = same && image[0].pixels == image[1].pixels;
+      }
+  const double megapixels = 1e-6 * image[0].width * image[0].height;
+  std::printf("%zu scans of %dx%d in %s: libpng %.2f ms, fast path %.2f ms (%.1fx), pixels %s\n", files.size(),
+              image[0].width, image[0].height, dir.c_str(), median(ms[0]), median(ms[1]), median(ms[0]) / median(ms[1]),
+              same ? "identical" : "DIFFERENT");
+  return json{{"dir", dir},
+              {"scans", files.size()},
+              {"megapixels", megapixels},
+              {"libpng_ms", median(ms[0])},
+              {"fast_ms", median(ms[1])},
+              {"identical", same}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -279,6 +313,7 @@ int main(int argc, char** argv) {
       "Usage: radar_pipeline_bench --sequence DIR [--format oxford|radiate] [--threads 1,2] [--repeats 3] [--json F]\n"
       "       radar_pipeline_bench --sequence DIR --growth [--svg F] [--json F]\n"
       "       radar_pipeline_bench --dataroot DIR [--threads 1,2] [--repeats 3] [--json F]\n"
+      "       radar_pipeline_bench --decode DIR [--decode DIR...]   (the PNG decoders, one thread)\n"
       "Each run is a process of its own (wall clock, CPU time and peak memory are a whole run's); the\n"
       "figures are medians over the repeats.";
   po::options_description opts("Options");
@@ -288,6 +323,7 @@ int main(int argc, char** argv) {
     ("sequence", po::value<std::string>(), "a scanning sequence (Oxford or RADIATE layout)")
     ("format", po::value<std::string>()->default_value("oxford"), "oxford or radiate")
     ("dataroot", po::value<std::string>(), "a nuScenes dataroot: every scene, ours, per thread count")
+    ("decode", po::value<std::vector<std::string>>(), "instead: libpng and the fast path on every PNG of this folder")
     ("threads", po::value<std::string>()->default_value("1,2"), "thread counts to run, comma separated")
     ("repeats", po::value<int>()->default_value(3), "runs per configuration (the median is reported)")
     ("max-scans", po::value<std::size_t>()->default_value(0), "scans per run, 0: all")
@@ -304,7 +340,10 @@ int main(int argc, char** argv) {
   return apps::runGuarded("radar_pipeline_bench", [&] {
     if (vm["repeats"].as<int>() < 1) throw std::invalid_argument("--repeats must be at least 1");
     json out;
-    if (vm.count("dataroot")) {
+    if (vm.count("decode")) {
+      for (const std::string& dir : vm["decode"].as<std::vector<std::string>>())
+        out["decode"].push_back(decodeTable(dir, vm["repeats"].as<int>()));
+    } else if (vm.count("dataroot")) {
       out["nuscenes"] = nuscenesTable(vm);
     } else if (vm.count("sequence")) {
       const std::string dir = vm["sequence"].as<std::string>();

@@ -115,8 +115,8 @@ void addPipelineOptions(po::options_description& opts) {
      "velocity by more (m/s; yaw rate x 10 m), default " +
      num(s.odometry.compensation.tolerance)).c_str())
     ("threads", po::value<int>(), "threads: the next scans (cycles) read and through the front-end on the others "
-                                  "while one is matched (outputs identical for any number), default 0: every core; "
-                                  "1: one thread")
+                                  "while one is matched, several nuScenes scenes side by side (outputs identical "
+                                  "for any number), default 0: every core; 1: one thread")
     ("no-prefetch", po::bool_switch(), "the same as --threads 1")
     ("quiet,q", po::bool_switch(), "no progress bar");
   // clang-format on

@@ -94,13 +94,15 @@ int runAutomotive(const po::variables_map& vm, const Outputs& base) {
   o.many = scenes.size() > 1;
   std::vector<json> runs;
   std::vector<EvaluationReport> reports;
-  for (const NuScenesScene* scene : scenes) {
-    const AutomotiveRunResult r =
-        runAutomotiveOdometry(dataset, *scene, options, apps::Progress{o.progress, scene->name});
+  auto finishScene = [&](std::size_t i, const AutomotiveRunResult& r) {
     std::optional<EvaluationReport> report;
-    runs.push_back(finish(r, scene->name, o, report));
+    runs.push_back(finish(r, scenes[i]->name, o, report));
     if (report) reports.push_back(*report);
-  }
+  };
+  if (scenes.size() == 1)  // one scene: its cycles on the pipeline, with a progress bar
+    finishScene(0, runAutomotiveOdometry(dataset, *scenes[0], options, apps::Progress{o.progress, scenes[0]->name}));
+  else  // several: the scenes side by side, reported in order
+    runAutomotiveScenes(dataset, scenes, options, finishScene, apps::Progress{o.progress, "scenes"});
   if (o.json) {
     printJson(runs, reports, "scenes");
   } else if (reports.size() > 1) {

@@ -88,6 +88,39 @@ TEST(AutomotiveOdometry, TheSameBitsForEveryNumberOfThreads) {
   }
 }
 
+TEST(AutomotiveOdometry, ScenesSideBySideGiveEachScenesOwnRunInOrder) {
+  const std::string root = std::string(RADAR_NDT_SHARED_DATA) + "/nuscenes-mini-radar";
+  if (!std::filesystem::exists(root + "/v1.0-mini/sensor.json"))
+    GTEST_SKIP() << "no " << root << ": skipping the real-data check";
+  const NuScenesDataset ds(root);
+  std::vector<const NuScenesScene*> scenes;
+  for (const NuScenesScene& scene : ds.scenes()) scenes.push_back(&scene);
+  ASSERT_GE(scenes.size(), 3u);
+  scenes.push_back(scenes.front());  // a scene listed twice runs twice
+  AutomotiveRunOptions options;
+  options.max_cycles = 60;
+  options.threads = 3;
+  std::vector<std::size_t> order;
+  std::vector<AutomotiveRunResult> results(scenes.size());
+  runAutomotiveScenes(ds, scenes, options, [&](std::size_t i, const AutomotiveRunResult& r) {
+    order.push_back(i);
+    results[i] = r;
+  });
+  ASSERT_EQ(order.size(), scenes.size());
+  for (std::size_t i = 0; i < order.size(); ++i) EXPECT_EQ(order[i], i);
+  AutomotiveRunOptions alone = options;
+  alone.threads = 1;
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    const AutomotiveRunResult r = runAutomotiveOdometry(ds, *scenes[i], alone);
+    EXPECT_EQ(results[i].scene, scenes[i]->name);
+    ASSERT_EQ(results[i].estimate.size(), r.estimate.size()) << scenes[i]->name;
+    for (std::size_t k = 0; k < r.estimate.size(); ++k)
+      EXPECT_EQ(0, std::memcmp(results[i].estimate.poses[k].matrix().data(), r.estimate.poses[k].matrix().data(),
+                               sizeof(double) * 16))
+          << scenes[i]->name << ": pose " << k << " differs in its bits";
+  }
+}
+
 namespace {
 /// A matcher that "converges" at its initial guess: the Doppler integral dressed as a match.
 class GuessMatcher : public RadarRegistration {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "detail/run_timing.h"
 #include "pipeline/ordered_pipeline.h"
@@ -178,6 +179,25 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
   result.ground_truth.stamps.assign(gt.stamps.begin(), gt.stamps.begin() + static_cast<std::ptrdiff_t>(n));
   result.ground_truth.poses.assign(gt.poses.begin(), gt.poses.begin() + static_cast<std::ptrdiff_t>(n));
   return result;
+}
+
+void runAutomotiveScenes(const NuScenesDataset& dataset, const std::vector<const NuScenesScene*>& scenes,
+                         const AutomotiveRunOptions& options,
+                         const std::function<void(std::size_t, const AutomotiveRunResult&)>& done,
+                         const std::function<void(std::size_t, std::size_t)>& progress) {
+  options.validate();
+  const int threads = detail::resolveThreads(options.threads);
+  AutomotiveRunOptions one_scene = options;
+  if (scenes.size() > 1 && threads > 1) one_scene.threads = 1;  // the scenes, not the cycles, side by side
+  const int scene_threads = scenes.size() > 1 ? threads : 1;
+  using Indexed = std::pair<std::size_t, AutomotiveRunResult>;
+  detail::runOrdered<Indexed>(
+      0, scenes.size(), scene_threads,
+      [&](std::size_t i) { return Indexed(i, runAutomotiveOdometry(dataset, *scenes[i], one_scene)); },
+      [&](Indexed& r) {
+        done(r.first, r.second);
+        if (progress) progress(r.first + 1, scenes.size());
+      });
 }
 
 }  // namespace radar_ndt

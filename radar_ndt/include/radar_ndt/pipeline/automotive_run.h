@@ -61,6 +61,16 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
                                           const AutomotiveRunOptions& options,
                                           const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
 
+/// Runs `options` on every scene of `scenes` and calls `done(i, result)` for scenes[i] in order, one
+/// call at a time, from one of the run's threads. With more than one thread and more than one
+/// scene, the scenes run side by side, each on one thread (a scene's cycles are short: running
+/// whole scenes at once keeps every core busy where one scene's pipeline cannot); each result is the
+/// one runAutomotiveOdometry gives for its scene alone. `progress(done, total)` counts scenes.
+void runAutomotiveScenes(const NuScenesDataset& dataset, const std::vector<const NuScenesScene*>& scenes,
+                         const AutomotiveRunOptions& options,
+                         const std::function<void(std::size_t, const AutomotiveRunResult&)>& done,
+                         const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
+
 /// The same with a matcher of the caller's (any pcl::Registration<PointRadar, PointRadar>, set up
 /// as the caller wants but for its grid, set to options.odometry.grid: NDT cell size, or ICP's
 /// maximum correspondence distance); `options.matcher` is not used.

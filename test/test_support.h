@@ -59,5 +59,10 @@ inline std::string readBytes(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+/// Writes `bytes` to `path` as they are (a test's file, good or broken).
+inline void writeBytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
 }  // namespace test
 }  // namespace radar_ndt

@@ -21,6 +21,7 @@ using radar_ndt::test::pngChunk;
 using radar_ndt::test::pngHeader;
 using radar_ndt::test::pngSignature;
 using radar_ndt::test::readBytes;
+using radar_ndt::test::writeBytes;
 using radar_ndt::test::zlibStream;
 namespace fs = std::filesystem;
 
@@ -29,10 +30,6 @@ namespace {
 const std::string kData = RADAR_NDT_SHARED_DATA;
 constexpr std::size_t kMaxPixels = std::size_t{1} << 28;
 constexpr std::size_t kMaxInflation = 1100;
-
-void writeBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
 
 /// What a decoder makes of a file: its pixels with the size, or the error's message.
 std::string outcome(const std::string& path, PngDecoder decoder) {

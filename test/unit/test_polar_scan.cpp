@@ -21,16 +21,12 @@ using radar_ndt::test::buildPng;
 using radar_ndt::test::freshTempDir;
 using radar_ndt::test::pngChunk;
 using radar_ndt::test::readBytes;
+using radar_ndt::test::writeBytes;
 namespace fs = std::filesystem;
 
 namespace {
 
 const std::string kRadiate = std::string(RADAR_NDT_SHARED_DATA) + "/radiate-tiny-foggy";
-
-void writeText(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
 
 /// Expects `f` to throw an IoError whose message names `path` and contains `what`.
 template <typename F>
@@ -152,19 +148,19 @@ TEST(OxfordPolar, MalformedFilesGiveClearErrors) {
   const std::string bytes = readBytes(good);
 
   const std::string text = dir + "/not_png.png";
-  writeText(text, "timestamp,x,y\n1,2,3\n");
+  writeBytes(text, "timestamp,x,y\n1,2,3\n");
   expectIoError([&] { readOxfordPolarPng(text); }, text, "not a PNG");
 
   const std::string empty = dir + "/empty.png";
-  writeText(empty, "");
+  writeBytes(empty, "");
   expectIoError([&] { readOxfordPolarPng(empty); }, empty, "empty file");
 
   const std::string truncated = dir + "/truncated.png";
-  writeText(truncated, bytes.substr(0, bytes.size() / 2));
+  writeBytes(truncated, bytes.substr(0, bytes.size() / 2));
   expectIoError([&] { readOxfordPolarPng(truncated); }, truncated, "truncated");
 
   const std::string header_only = dir + "/header_only.png";
-  writeText(header_only, bytes.substr(0, 20));
+  writeBytes(header_only, bytes.substr(0, 20));
   expectIoError([&] { readOxfordPolarPng(header_only); }, header_only, "PNG");
 
   const std::string narrow = dir + "/narrow.png";
@@ -221,7 +217,7 @@ TEST(OxfordPolar, ScansWrittenByOtherToolsReadAsTheirStoredValues) {
   };
   for (const auto& [name, bytes] : same) {
     const std::string path = dir + "/" + name;
-    writeText(path, bytes);
+    writeBytes(path, bytes);
     try {
       const PolarScan r = readOxfordPolarPng(path);
       EXPECT_EQ(r.power, ref.power) << name;
@@ -235,10 +231,10 @@ TEST(OxfordPolar, ScansWrittenByOtherToolsReadAsTheirStoredValues) {
   std::vector<std::uint8_t> tinted = rgb;
   tinted[3 * (2 * w + 100) + 2] ^= 1;
   const std::string colour = dir + "/colour.png";
-  writeText(colour, buildPng(w, h, 8, 2, 3, tinted));
+  writeBytes(colour, buildPng(w, h, 8, 2, 3, tinted));
   expectIoError([&] { readOxfordPolarPng(colour); }, colour, "colour image (pixel 100, 2");
   const std::string deep = dir + "/16bit.png";
-  writeText(deep, buildPng(w, h, 16, 0, 2, g16));
+  writeBytes(deep, buildPng(w, h, 16, 0, 2, g16));
   expectIoError([&] { readOxfordPolarPng(deep); }, deep, "16-bit samples");
   fs::remove_all(dir);
 }
@@ -246,27 +242,27 @@ TEST(OxfordPolar, ScansWrittenByOtherToolsReadAsTheirStoredValues) {
 TEST(OxfordSequenceFiles, TimestampsAndOdometryCsvErrors) {
   const std::string dir = freshTempDir("oxford_csv");
   const std::string ts = dir + "/radar.timestamps";
-  writeText(ts, "1547120000000000 1\n1547120000250000 1\n1547120000200000 1\n");
+  writeBytes(ts, "1547120000000000 1\n1547120000250000 1\n1547120000200000 1\n");
   expectIoError([&] { readOxfordTimestamps(ts); }, ts, "out of order");
-  writeText(ts, "1547120000000000 1\n1547120000250000 2\n");
+  writeBytes(ts, "1547120000000000 1\n1547120000250000 2\n");
   expectIoError([&] { readOxfordTimestamps(ts); }, ts, "valid flag");
-  writeText(ts, "1547120000000000 1\nabc 1\n");
+  writeBytes(ts, "1547120000000000 1\nabc 1\n");
   expectIoError([&] { readOxfordTimestamps(ts); }, ts, ":2");
 
   const std::string csv = dir + "/radar_odometry.csv";
   const std::string header =
       "source_timestamp,destination_timestamp,x,y,z,roll,pitch,yaw,source_radar_timestamp,destination_radar_"
       "timestamp\n";
-  writeText(csv, "source_timestamp,destination_timestamp,x,y,z,roll,pitch\n");
+  writeBytes(csv, "source_timestamp,destination_timestamp,x,y,z,roll,pitch\n");
   expectIoError([&] { readOxfordRadarOdometry(csv); }, csv, "no column 'yaw'");
-  writeText(csv, header + "2,1,0.5,0,0,0,0,0.01,2,1\n4,3,0.5,0,0,0,0,0.01,4,3\n");
+  writeBytes(csv, header + "2,1,0.5,0,0,0,0,0.01,2,1\n4,3,0.5,0,0,0,0,0.01,4,3\n");
   expectIoError([&] { readOxfordRadarOdometry(csv); }, csv, "does not chain");
-  writeText(csv, header + "2,1,0.5,0,0,0,0\n");
+  writeBytes(csv, header + "2,1,0.5,0,0,0,0\n");
   expectIoError([&] { readOxfordRadarOdometry(csv); }, csv, "columns");
-  writeText(csv, header + "2,1,nan,0,0,0,0,0.01,2,1\n");
+  writeBytes(csv, header + "2,1,nan,0,0,0,0,0.01,2,1\n");
   expectIoError([&] { readOxfordRadarOdometry(csv); }, csv, "not finite");
   // Any column order, by name.
-  writeText(csv, "yaw,x,y,z,roll,pitch,destination_timestamp,source_timestamp\n0.01,0.5,-0.1,0,0,0,1,2\n");
+  writeBytes(csv, "yaw,x,y,z,roll,pitch,destination_timestamp,source_timestamp\n0.01,0.5,-0.1,0,0,0,1,2\n");
   const auto rows = readOxfordRadarOdometry(csv);
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_EQ(rows[0].source, 2);

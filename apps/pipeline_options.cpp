@@ -20,8 +20,8 @@ std::string num(double v) {
 
 Pipeline pipelineOf(const std::string& format) {
   if (format == "nuscenes") return Pipeline::Automotive;
-  if (format == "oxford" || format == "radiate") return Pipeline::Scanning;
-  throw std::invalid_argument("--format " + format + " is not supported (nuscenes, oxford, radiate)");
+  if (format == "oxford" || format == "radiate" || format == "boreas") return Pipeline::Scanning;
+  throw std::invalid_argument("--format " + format + " is not supported (nuscenes, oxford, radiate, boreas)");
 }
 
 void addPipelineOptions(po::options_description& opts) {
@@ -31,11 +31,12 @@ void addPipelineOptions(po::options_description& opts) {
   // clang-format off
   opts.add_options()
     ("format", po::value<std::string>()->required(),
-     "dataset layout: nuscenes (automotive) | oxford | radiate (scanning)")
+     "dataset layout: nuscenes (automotive) | oxford | radiate | boreas (scanning)")
     ("dataroot", po::value<std::string>(), "nuscenes: the dataroot (holds v1.0-*/, samples/, sweeps/)")
     ("sequence", po::value<std::vector<std::string>>()->multitoken(),
      "oxford: a directory with radar.timestamps, radar/<stamp>.png and optionally "
-     "gt/radar_odometry.csv; radiate: one with Navtech_Polar.txt and Navtech_Polar/<frame>.png")
+     "gt/radar_odometry.csv; radiate: one with Navtech_Polar.txt and Navtech_Polar/<frame>.png; boreas: "
+     "one with radar/<stamp>.png and optionally applanix/radar_poses.csv")
     ("version", po::value<std::string>()->default_value(""),
      "nuscenes: table folder under dataroot (default: the one holding sensor.json)")
     ("scene", po::value<std::string>()->default_value("all"),
@@ -85,9 +86,11 @@ void addPipelineOptions(po::options_description& opts) {
      "nuscenes: do not remove detections that disagree with the Doppler ego-velocity (ablation)")
     ("start", po::value<std::size_t>(), "scanning: first scan used (default 0)")
     ("threshold", po::value<double>(),
-     ("scanning: power threshold (0..1) of the front-end, default " + num(s.front_end.threshold)).c_str())
+     ("scanning: power threshold (0..1) of the front-end, default " + num(s.front_end.threshold) + " (boreas scans "
+     "with chirp types: " + num(kBoreasChirpThreshold) + ")").c_str())
     ("power-shift", po::value<double>(), ("scanning, pw-ndt: power shift s of the weights max(p - s, 0), default " +
-                                          num(s.odometry.power_shift) + "; 0 turns it off").c_str())
+                                          num(s.odometry.power_shift) + " (boreas scans with chirp types: " +
+                                          num(kBoreasChirpThreshold) + "); 0 turns it off").c_str())
     ("no-source-shift", po::bool_switch(),
      "scanning, pw-ndt: shift the cells' weights (eq. 1) only; the matching weights are "
      "p·exp(-(σx+σy)/2) (ablation; the paper shifts both)")
@@ -97,10 +100,11 @@ void addPipelineOptions(po::options_description& opts) {
      ("scanning, cartesian: metres per pixel, default " + num(s.front_end.cartesian_resolution)).c_str())
     ("bin-size", po::value<double>(),
      ("oxford: range bin size (m), default " + num(s.sequence.oxford.convention.range_resolution) +
-     " (the dataset's figure; its SDK uses 0.0432)").c_str())
+     " (the dataset's figure; its SDK uses 0.0432); boreas: default by the scan's date as the SDK decides "
+     "(" + num(kBoreasBinBeforeUpgrade) + " before 2021-09-21, " + num(kBoreasBinAfterUpgrade) + " after)").c_str())
     ("bins", po::value<int>(),
      ("oxford: range bins a PNG row must have after its 11 metadata bytes, default " +
-     num(s.sequence.oxford.expected_bins) + " (the CTS350-X's); 0 accepts any width").c_str())
+     num(s.sequence.oxford.expected_bins) + " (the CTS350-X's); 0 accepts any width; boreas: default any").c_str())
     ("keyframe-distance", po::value<double>(),
      ("scanning: match to a keyframe replaced after this many metres (or " +
      num(s.odometry.keyframes.rotation) + " rad, or a failed match), default " +
@@ -155,9 +159,9 @@ AutomotiveRunOptions automotiveOptions(const po::variables_map& vm) {
   return o;
 }
 
-ScanningRunOptions scanningOptions(const po::variables_map& vm) {
+ScanningRunOptions scanningOptions(const po::variables_map& vm, const ScanningRunOptions& base) {
   auto has = [&](const char* name) { return vm.count(name) > 0; };
-  ScanningRunOptions o;
+  ScanningRunOptions o = base;
   o.matcher.method = parseMethod(vm["method"].as<std::string>());
   auto& od = o.odometry;
   if (has("grid")) od.grid = vm["grid"].as<double>();
@@ -177,8 +181,11 @@ ScanningRunOptions scanningOptions(const po::variables_map& vm) {
   }
   if (has("pixel")) o.front_end.cartesian_resolution = vm["pixel"].as<double>();
   if (has("max-range")) o.front_end.max_range = vm["max-range"].as<double>();
-  if (has("bin-size")) o.sequence.oxford.convention.range_resolution = vm["bin-size"].as<double>();
-  if (has("bins")) o.sequence.oxford.expected_bins = vm["bins"].as<int>();
+  const bool boreas = vm["format"].as<std::string>() == "boreas";
+  if (has("bin-size"))
+    (boreas ? o.sequence.boreas.range_resolution : o.sequence.oxford.convention.range_resolution) =
+        vm["bin-size"].as<double>();
+  if (has("bins")) (boreas ? o.sequence.boreas.expected_bins : o.sequence.oxford.expected_bins) = vm["bins"].as<int>();
   if (has("start")) o.start = vm["start"].as<std::size_t>();
   if (has("max-cycles")) o.max_scans = vm["max-cycles"].as<std::size_t>();
   if (has("threads")) o.threads = vm["threads"].as<int>();

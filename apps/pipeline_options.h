@@ -18,7 +18,7 @@ namespace apps {
 
 enum class Pipeline { Automotive, Scanning };
 
-/// "nuscenes" (automotive) or "oxford" / "radiate" (scanning); throws std::invalid_argument.
+/// "nuscenes" (automotive) or "oxford" / "radiate" / "boreas" (scanning); throws std::invalid_argument.
 Pipeline pipelineOf(const std::string& format);
 
 /// Adds --format, --dataroot, --sequence, --version, --scene, --method and every pipeline
@@ -28,8 +28,10 @@ void addPipelineOptions(boost::program_options::options_description& options);
 /// The automotive run options the command line asks for (nuscenes); throws std::invalid_argument
 /// naming a bad value.
 AutomotiveRunOptions automotiveOptions(const boost::program_options::variables_map& vm);
-/// The scanning run options the command line asks for (oxford, radiate).
-ScanningRunOptions scanningOptions(const boost::program_options::variables_map& vm);
+/// The scanning run options the command line asks for (oxford, radiate, boreas), over `base` (the
+/// library's defaults for the sequence's radar: defaultScanningOptions).
+ScanningRunOptions scanningOptions(const boost::program_options::variables_map& vm,
+                                   const ScanningRunOptions& base = {});
 
 /// The dataroot --dataroot and --version name (std::invalid_argument without --dataroot).
 NuScenesDataset openDataset(const boost::program_options::variables_map& vm);

@@ -22,10 +22,11 @@ int main(int argc, char** argv) {
   // clang-format off
   opts.add_options()
     ("help,h", "print this help and exit")
-    ("gt", po::value(&gt_path)->required(), "ground-truth trajectory (KITTI or TUM)")
-    ("est", po::value(&est_path)->required(), "estimated trajectory (KITTI or TUM)")
+    ("gt", po::value(&gt_path)->required(), "ground-truth trajectory (KITTI, TUM, Boreas odometry, or a Boreas applanix/*_poses.csv)")
+    ("est", po::value(&est_path)->required(), "estimated trajectory (KITTI, TUM or Boreas odometry)")
     ("format", po::value(&format_text)->default_value("auto"),
-     "file format of both: auto|kitti|tum (auto: 12 columns KITTI, 8 TUM)")
+     "file format of both: auto|kitti|tum|boreas (auto: a Boreas pose CSV by its GPSTime header, else 12 "
+     "columns KITTI, 8 TUM, 13 Boreas odometry)")
     ("metric", po::value(&metric_text)->default_value("kitti"), "kitti|1m|frame|ate|all, or a comma-separated list")
     ("kitti-step", po::value(&kitti_step)->default_value(10), "kitti: a first frame every N poses")
     ("segment-length", po::value(&one_m)->default_value(1.0), "1m: segment length (m)")

@@ -1,6 +1,6 @@
 // radar_odometry: radar odometry over a dataset sequence. --format nuscenes: the paper's automotive
 // pipeline (Doppler ego-velocity, probabilistic submap of N cycles, weighted NDT) on a nuScenes-
-// layout dataroot. --format oxford|radiate: the scanning pipeline (power threshold, weighted NDT
+// layout dataroot. --format oxford|radiate|boreas: the scanning pipeline (power threshold, weighted NDT
 // against keyframes with the paper's failure handling, motion compensation) on scan sequences.
 // Parses options, calls the library, writes and prints; the paper's tables are radar_paper_tables.
 #include <iostream>
@@ -114,7 +114,6 @@ int runAutomotive(const po::variables_map& vm, const Outputs& base) {
 
 int runScanning(const po::variables_map& vm, const Outputs& base) {
   const std::vector<std::string> dirs = apps::sequenceDirs(vm);
-  const ScanningRunOptions options = apps::scanningOptions(vm);
   const ScanFormat format = parseScanFormat(vm["format"].as<std::string>());
   Outputs o = base;
   o.many = dirs.size() > 1;
@@ -122,10 +121,14 @@ int runScanning(const po::variables_map& vm, const Outputs& base) {
   std::vector<json> runs;
   std::vector<EvaluationReport> reports;
   for (const std::string& dir : dirs) {
-    const ScanningSequence sequence(dir, format, options.sequence);
+    const ScanningSequence sequence(dir, format, apps::scanningOptions(vm).sequence);
+    // The command line over the defaults for this sequence's radar.
+    const ScanningRunOptions options = apps::scanningOptions(vm, defaultScanningOptions(sequence));
     if (o.eval && !sequence.hasGroundTruth())
-      throw std::invalid_argument("--eval: " + dir +
-                                  " has no ground truth (oxford: gt/radar_odometry.csv; radiate has none)");
+      throw std::invalid_argument(
+          "--eval: " + dir +
+          " has no ground truth (oxford: gt/radar_odometry.csv; boreas: applanix/radar_poses.csv; "
+          "radiate has none)");
     std::unique_ptr<TopViewMap> map;
     ScanCallback on_scan;
     if (!o.map.empty()) {
@@ -155,7 +158,8 @@ int main(int argc, char** argv) {
   opts.add_options()
     ("out", po::value<std::string>(),
      "write the trajectory here (several scenes or sequences: one file each, NAME inserted before the extension)")
-    ("out-format", po::value<std::string>()->default_value("tum"), "kitti | tum (TUM keeps the cycle timestamps)")
+    ("out-format", po::value<std::string>()->default_value("tum"), "kitti | tum (TUM keeps the cycle timestamps) | boreas (the Boreas odometry leaderboard's: µs and "
+     "T_rk_r0 in the radar's axes, x forward, y right, z down)")
     ("steps", po::value<std::string>(),
      "write one CSV line per cycle or scan: status, attempts, grid, motion, initial guess, points "
      "(nuscenes: and the ground-truth motion)")
@@ -176,7 +180,8 @@ int main(int argc, char** argv) {
       "                      [--mode cycle-to-map|paper] [--map-cycles M] [--submap N] [--grid G] [--out traj.txt] "
       "[--eval]\n"
       "                      [--metric 1m|kitti|frame|ate|all] [--json] [--plot out.svg]\n"
-      "       radar_odometry --format oxford|radiate --sequence DIR... [--method pw-ndt|pcl-ndt|pcl-icp] [--grid G]\n"
+      "       radar_odometry --format oxford|radiate|boreas --sequence DIR... [--method pw-ndt|pcl-ndt|pcl-icp] "
+      "[--grid G]\n"
       "                      [--threshold T] [--power-shift S] [--points cartesian|polar] [--out traj.txt] [--eval] "
       "[--json]\n"
       "                      [--plot out.svg] [--map top.png]\n"
@@ -184,7 +189,8 @@ int main(int argc, char** argv) {
       "vehicle frame at the reference sweep's timestamp; each cycle matched to a local map of the M cycles before it\n"
       "from the Doppler ego-motion and fused with it (paper mode: submap of N cycles to the last submap, not fused).\n"
       "Unreadable sweeps are reported and left out of their cycle.\n"
-      "oxford|radiate: one pose per scan, the vehicle at the scan's timestamp (the first azimuth's); each scan\n"
+      "oxford|radiate|boreas: one pose per scan, the vehicle at the scan's timestamp (oxford: the first azimuth's;\n"
+      "boreas: the middle one's, as the dataset names its scans); each scan\n"
       "motion-compensated and matched to the last keyframe from a constant-velocity guess, failures retried with\n"
       "the grid enlarged, then with s halved. Unreadable scans are reported and bridged with the motion model;\n"
       "bad index lines are reported and left out.\n"
@@ -209,7 +215,7 @@ int main(int argc, char** argv) {
     parseTrajectoryFormat(o.out_format);  // a bad value fails before the run
     if (!o.metric.empty()) parseMetrics(o.metric);
     if (!o.map.empty() && apps::pipelineOf(vm["format"].as<std::string>()) != apps::Pipeline::Scanning)
-      throw std::invalid_argument("--map is for the scanning pipeline (--format oxford|radiate)");
+      throw std::invalid_argument("--map is for the scanning pipeline (--format oxford|radiate|boreas)");
     return apps::pipelineOf(vm["format"].as<std::string>()) == apps::Pipeline::Automotive ? runAutomotive(vm, o)
                                                                                           : runScanning(vm, o);
   });

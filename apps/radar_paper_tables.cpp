@@ -1,7 +1,7 @@
 // radar_paper_tables: the paper's tables reproduced on the data given, every method through the
 // same front-end, guesses and failure handling. --format nuscenes: the nuScenes table (N = 1, 3, 5,
 // 10 for PCL's ICP and ours, N = 1 for Kellner's Doppler integration and Rapp's NDT; 1m metric,
-// mean over scenes). --format oxford|radiate: ours against PCL's NDT and ICP (their documented
+// mean over scenes). --format oxford|radiate|boreas: ours against PCL's NDT and ICP (their documented
 // settings and the best grid of a sweep) and the paper's ablations on every sequence (KITTI metric
 // and frame errors). The pipeline options are radar_odometry's (docs/apps.md).
 #include <cstdio>
@@ -29,7 +29,14 @@ using nlohmann::json;
 
 namespace {
 
-/// --format oxford|radiate: ours vs PCL's NDT and ICP, and the paper's ablations, on every
+/// The command line over the defaults for the first sequence's radar (defaultScanningOptions).
+ScanningRunOptions scanningTableOptions(const po::variables_map& vm) {
+  const ScanningSequence first(apps::sequenceDirs(vm).front(), parseScanFormat(vm["format"].as<std::string>()),
+                               apps::scanningOptions(vm).sequence);
+  return apps::scanningOptions(vm, defaultScanningOptions(first));
+}
+
+/// --format oxford|radiate|boreas: ours vs PCL's NDT and ICP, and the paper's ablations, on every
 /// sequence, KITTI metric and frame-to-frame errors; one markdown table (or JSON).
 int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const std::vector<std::string>& dirs,
                      std::size_t sweep_scans, bool json_out, bool progress_on) {
@@ -37,7 +44,8 @@ int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const st
   for (const auto& d : dirs) {
     sequences.push_back(std::make_unique<ScanningSequence>(d, format, base.sequence));
     if (!sequences.back()->hasGroundTruth())
-      throw std::invalid_argument("--table: " + d + " has no ground truth (gt/radar_odometry.csv)");
+      throw std::invalid_argument(
+          "--table: " + d + " has no ground truth (oxford: gt/radar_odometry.csv; boreas: applanix/radar_poses.csv)");
   }
   struct Row {
     std::string group, name;
@@ -426,7 +434,8 @@ int main(int argc, char** argv) {
       "over\n"
       "scenes. --noise-calibration: the fusion's covariances calibrated with --method on every scene and checked "
       "leaving each\n"
-      "scene out. oxford: on every --sequence (with ground truth), ours vs PCL's NDT and ICP (documented settings and "
+      "scene out. oxford, boreas: on every --sequence (with ground truth), ours vs PCL's NDT and ICP (documented "
+      "settings and "
       "the best\n"
       "of a grid sweep) and the paper's ablations; KITTI metric. --method is ignored but by --noise-calibration.";
   po::variables_map vm;
@@ -437,7 +446,7 @@ int main(int argc, char** argv) {
     const bool progress_on = !vm["quiet"].as<bool>() && isatty(STDERR_FILENO);
     const std::string format = vm["format"].as<std::string>();
     if (apps::pipelineOf(format) == apps::Pipeline::Scanning)
-      return runScanningTable(apps::scanningOptions(vm), parseScanFormat(format), apps::sequenceDirs(vm),
+      return runScanningTable(scanningTableOptions(vm), parseScanFormat(format), apps::sequenceDirs(vm),
                               vm["sweep-scans"].as<std::size_t>(), json_out, progress_on);
     const AutomotiveRunOptions options = apps::automotiveOptions(vm);
     const NuScenesDataset dataset = apps::openDataset(vm);

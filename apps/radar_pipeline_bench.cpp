@@ -310,7 +310,8 @@ json decodeTable(const std::string& dir, int repeats) {
 
 int main(int argc, char** argv) {
   const std::string usage =
-      "Usage: radar_pipeline_bench --sequence DIR [--format oxford|radiate] [--threads 1,2] [--repeats 3] [--json F]\n"
+      "Usage: radar_pipeline_bench --sequence DIR [--format oxford|radiate|boreas] [--threads 1,2] [--repeats 3] "
+      "[--json F]\n"
       "       radar_pipeline_bench --sequence DIR --growth [--svg F] [--json F]\n"
       "       radar_pipeline_bench --dataroot DIR [--threads 1,2] [--repeats 3] [--json F]\n"
       "       radar_pipeline_bench --decode DIR [--decode DIR...]   (the PNG decoders, one thread)\n"
@@ -321,7 +322,8 @@ int main(int argc, char** argv) {
   opts.add_options()
     ("help,h", "this help")
     ("sequence", po::value<std::string>(), "a scanning sequence (Oxford or RADIATE layout)")
-    ("format", po::value<std::string>()->default_value("oxford"), "oxford or radiate")
+    ("format", po::value<std::string>()->default_value("oxford"),
+     "oxford, radiate or boreas (the paper's front-end settings for each)")
     ("dataroot", po::value<std::string>(), "a nuScenes dataroot: every scene, ours, per thread count")
     ("decode", po::value<std::vector<std::string>>(), "instead: libpng and the fast path on every PNG of this folder")
     ("threads", po::value<std::string>()->default_value("1,2"), "thread counts to run, comma separated")
@@ -348,8 +350,7 @@ int main(int argc, char** argv) {
     } else if (vm.count("sequence")) {
       const std::string dir = vm["sequence"].as<std::string>();
       const std::string f = vm["format"].as<std::string>();
-      if (f != "oxford" && f != "radiate") throw std::invalid_argument("--format must be oxford or radiate");
-      const ScanFormat format = f == "oxford" ? ScanFormat::Oxford : ScanFormat::Radiate;
+      const ScanFormat format = parseScanFormat(f);
       out["sequence"] = dir;
       if (vm["growth"].as<bool>())
         out["growth"] = growth(vm, dir, format);

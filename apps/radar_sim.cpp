@@ -13,6 +13,7 @@
 #include "app_common.h"
 #include "radar_ndt/evaluation/scan_statistics.h"
 #include "radar_ndt/frontend/power_threshold.h"
+#include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/png_image.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/radiate_scan.h"
@@ -143,14 +144,18 @@ std::map<std::string, Setting> settings(sim::WorldOptions& w, sim::ScanningOptio
   return m;
 }
 
-/// The real scans of an Oxford (radar.timestamps, radar/<stamp>.png) or RADIATE (Navtech_Polar/)
-/// sequence directory, and the layout's name.
+/// The real scans of an Oxford (radar.timestamps, radar/<stamp>.png), Boreas (radar/<stamp>.png, no
+/// index) or RADIATE (Navtech_Polar/) sequence directory, and the layout's name.
 std::vector<PolarScan> readRealScans(const std::string& dir, std::string& layout) {
   const fs::path root(dir);
   std::vector<PolarScan> scans;
   if (fs::exists(root / "radar.timestamps")) {
     layout = "Oxford";
     const ScanningSequence sequence(dir, ScanFormat::Oxford);  // the reader the odometry uses
+    for (std::size_t k = 0; k < sequence.size(); ++k) scans.push_back(sequence.load(k));
+  } else if (fs::is_directory(root / "radar")) {
+    layout = "Boreas";
+    const ScanningSequence sequence(dir, ScanFormat::Boreas);
     for (std::size_t k = 0; k < sequence.size(); ++k) scans.push_back(sequence.load(k));
   } else {
     layout = "RADIATE";
@@ -164,8 +169,15 @@ std::vector<PolarScan> readRealScans(const std::string& dir, std::string& layout
   }
   if (scans.empty())
     throw std::invalid_argument("--realism: no scans in '" + dir +
-                                "' (an Oxford sequence with radar.timestamps, or RADIATE's Navtech_Polar/)");
+                                "' (an Oxford sequence with radar.timestamps, a Boreas one with radar/, or RADIATE's "
+                                "Navtech_Polar/)");
   return scans;
+}
+
+double medianOf(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
 }
 
 std::vector<std::uint8_t> toPixels(const CartesianImage& image) {
@@ -178,10 +190,12 @@ std::vector<std::uint8_t> toPixels(const CartesianImage& image) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string type = "scanning", trajectory_path, out, realism_dir, realism_png, profile_name;
+  std::string type = "scanning", layout_name = "oxford", trajectory_path, out, realism_dir, realism_png, profile_name;
+  std::int64_t start_stamp = 0;
+  bool chirp_flags = false;
   std::size_t frames = 0, start = 0;
   std::uint64_t seed = 1;
-  double period = 0.25, view_range = 62.5;
+  double period = 0.25, view_range = 62.5, realism_threshold = 0.333;
   int compression = 1;
   std::vector<std::string> sets;
   bool list = false, quiet = false;
@@ -191,9 +205,19 @@ int main(int argc, char** argv) {
     ("help,h", "print this help and exit")
     ("type", po::value(&type)->default_value("scanning"),
      "scanning (Oxford Radar RobotCar layout) | automotive (nuScenes layout)")
+    ("layout", po::value(&layout_name)->default_value("oxford"),
+     "scanning: oxford (radar.timestamps, radar/, gt/radar_odometry.csv) | boreas (radar/<stamp>.png named by the "
+     "sweep's middle row, applanix/radar_poses.csv; the bin by the scans' date as Boreas: 0.0596 m and 3360 bins "
+     "before 2021-09-21, 0.04381 m and 6848 after)")
     ("trajectory", po::value(&trajectory_path),
-     "ego trajectory, KITTI or TUM (e.g. ../shared/data/oxford-radar-gt/*.txt); default: a built-in 2-minute city "
-     "drive")
+     "ego trajectory, KITTI, TUM or a Boreas pose file (applanix/radar_poses.csv: its times and place are kept "
+     "for --layout boreas) (e.g. ../shared/data/oxford-radar-gt/*.txt); default: a built-in 2-minute city drive")
+    ("start-stamp", po::value(&start_stamp),
+     "the first scan's time (µs since 1970); default: the trajectory's own time for a Boreas pose file, else "
+     "1547120000000000 (2019-01-10)")
+    ("chirp-flags", po::bool_switch(&chirp_flags),
+     "--layout boreas: write the flag byte as alternating up/down chirp types, as 2024 Boreas scans (the ranges "
+     "are not shifted: no chirp model)")
     ("period", po::value(&period)->default_value(0.25), "s between poses of a trajectory without timestamps (KITTI)")
     ("out", po::value(&out), "output directory (created)")
     ("frames", po::value(&frames)->default_value(0),
@@ -208,22 +232,27 @@ int main(int argc, char** argv) {
      "override a simulator setting: --set name=value (repeatable; see --list-settings)")
     ("list-settings", po::bool_switch(&list), "print every simulator setting with its value and meaning, then exit")
     ("realism", po::value(&realism_dir),
-     "compare: the real scans of this Oxford or RADIATE sequence against --frames (default 10) "
+     "compare: the real scans of this Oxford, Boreas or RADIATE sequence against --frames (default 10) "
      "simulated ones in the same layout (spread over the trajectory from --start); per range band "
      "the share of polar bins above 0.2, 0.333, 0.5 and power percentiles, and the front-end's points")
     ("realism-png", po::value(&realism_png),
      "with --realism: write the first real scan (left) and a simulated one (right), Cartesian, as one PNG")
+    ("realism-threshold", po::value(&realism_threshold)->default_value(0.333),
+     "with --realism: the front-end threshold of the comparison (the paper's by default)")
     ("realism-view", po::value(&view_range)->default_value(62.5),
      "with --realism-png: show ±this many metres around the sensor")
     ("quiet,q", po::bool_switch(&quiet), "no progress line");
   // clang-format on
   const std::string usage =
-      "Usage: radar_sim --type scanning|automotive [--trajectory GT.txt] --out DIR [--frames N] [--seed S] [--start "
-      "K]\n"
-      "       radar_sim --realism OXFORD_OR_RADIATE_DIR [--profile P] [--trajectory GT.txt] [--frames N] "
+      "Usage: radar_sim --type scanning|automotive [--layout oxford|boreas] [--trajectory GT.txt] --out DIR [--frames "
+      "N] "
+      "[--seed S] [--start K]\n"
+      "       radar_sim --realism OXFORD_BOREAS_OR_RADIATE_DIR [--profile P] [--trajectory GT.txt] [--frames N] "
       "[--realism-png out.png]\n"
       "Scanning: DIR/radar/<stamp>.png, DIR/radar.timestamps, DIR/gt/radar_odometry.csv (Oxford conventions)\n"
-      "and DIR/gt/poses.txt (KITTI, first pose identity). Automotive: a nuScenes dataroot, tables in\n"
+      "and DIR/gt/poses.txt (KITTI, first pose identity); --layout boreas: DIR/radar/<stamp>.png,\n"
+      "DIR/applanix/radar_poses.csv (Boreas conventions) and DIR/gt/poses.txt. Automotive: a nuScenes dataroot, tables "
+      "in\n"
       "DIR/v1.0-sim, five ARS408 radars at nuScenes' mountings. Settings: --list-settings, docs/simulator.md.";
   po::variables_map vm;
   const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
@@ -274,9 +303,21 @@ int main(int argc, char** argv) {
     if (type != "scanning" && type != "automotive")
       throw std::invalid_argument("--type must be scanning or automotive, not '" + type + "'");
 
+    if (layout_name != "oxford" && layout_name != "boreas")
+      throw std::invalid_argument("--layout must be oxford or boreas, not '" + layout_name + "'");
+    const bool boreas = layout_name == "boreas";
+    if (boreas && type != "scanning") throw std::invalid_argument("--layout boreas is for --type scanning");
+    if (chirp_flags && !boreas) throw std::invalid_argument("--chirp-flags is for --layout boreas");
     const bool builtin = trajectory_path.empty();
-    const sim::SimTrajectory ego =
-        builtin ? sim::builtinDrive(120.0) : sim::SimTrajectory(readTrajectory(trajectory_path), period);
+    Trajectory path = builtin ? Trajectory{} : readTrajectory(trajectory_path);
+    // The simulator works near the origin (a Boreas pose file is in UTM metres); the Boreas layout
+    // puts the place back in its pose file.
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+    if (!path.empty() && (boreas || path.poses.front().translation().norm() > 1e4)) {
+      origin = path.poses.front().translation();
+      for (auto& p : path.poses) p.translation() -= origin;
+    }
+    const sim::SimTrajectory ego = builtin ? sim::builtinDrive(120.0) : sim::SimTrajectory(path, period);
     const std::string source = builtin ? "the built-in drive" : trajectory_path;
 
     if (!realism_dir.empty()) {
@@ -287,13 +328,25 @@ int main(int argc, char** argv) {
       scanning.bins = ref.bins;
       scanning.range_resolution = ref.range_resolution;
       scanning.range_offset_bins = ref.range_offset_bins;
-      const PowerThreshold front;  // the paper's front-end: 0.125 m/px within 62.5 m, threshold 0.333
+      PowerThresholdOptions front_options;  // the paper's front-end: 0.125 m/px within 62.5 m
+      front_options.threshold = static_cast<float>(realism_threshold);
+      const PowerThreshold front(front_options);
       const ScanStatisticsOptions stat_options;
       auto measure = [&](const PolarScan& s) { return scanStatistics(s, front, stat_options); };
       std::vector<ScanStatistics> real, simulated;
       std::vector<PowerStatistics> real_image, simulated_image;  // the front-end's Cartesian image
       const float thr = front.options().threshold;
+      // ms of the front-end per scan, once its geometry is cached (the first call of a run builds it).
+      auto front_ms = [&front](const PolarScan& s) {
+        pcl::PointCloud<PointRadar> cloud;
+        front.compute(s, cloud);
+        const auto t0 = std::chrono::steady_clock::now();
+        for (int i = 0; i < 3; ++i) front.compute(s, cloud);
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / 3;
+      };
+      std::vector<double> real_ms, simulated_ms;
       for (const PolarScan& s : real_scans) {
+        real_ms.push_back(front_ms(s));
         real.push_back(measure(s));
         real_image.push_back(powerStatistics(front.cartesianImage(s), thr));
       }
@@ -303,6 +356,7 @@ int main(int argc, char** argv) {
       const std::size_t stride = std::max<std::size_t>(1, (ego.size() - first) / n);
       for (std::size_t k = 0; k < n && first + k * stride < ego.size(); ++k) {
         sim::renderScan(w, ego, ego.stamps()[first + k * stride], seed, k, scanning, scan);
+        simulated_ms.push_back(front_ms(scan));
         simulated.push_back(measure(scan));
         simulated_image.push_back(powerStatistics(front.cartesianImage(scan), thr));
         if (k == n / 2) shown = scan;  // mid-sequence: under way
@@ -358,13 +412,15 @@ int main(int argc, char** argv) {
       // weighs, p − thres over the pixels above the threshold (medians over scans).
       const PowerStatistics ri = medianStatistics(real_image), si = medianStatistics(simulated_image);
       std::printf(
-          "\nThe front-end's Cartesian image (%.3f m/px, %.1f-%.1f m), medians over scans:\n\n"
+          "\nThe front-end's Cartesian image (%.3f m/px, %.1f-%.1f m, threshold %.3f), medians over scans:\n\n"
           "| statistic | real | simulated | ratio |\n|---|---|---|---|\n",
-          front.options().cartesian_resolution, front.options().min_range, front.options().max_range);
+          front.options().cartesian_resolution, front.options().min_range, front.options().max_range,
+          front.options().threshold);
       auto irow = [](const char* name, double a, double b) {
         std::printf("| %s | %.4f | %.4f | %.2f |\n", name, a, b, a != 0 ? b / a : 0.0);
       };
       irow("pixels above the threshold", ri.fraction_above, si.fraction_above);
+      irow("front-end ms per scan", medianOf(real_ms), medianOf(simulated_ms));
       irow("pixel power p50", ri.p50, si.p50);
       irow("pixel power p90", ri.p90, si.p90);
       irow("pixel power p99", ri.p99, si.p99);
@@ -399,9 +455,22 @@ int main(int argc, char** argv) {
     seq.frames = frames;
     seq.png_compression = compression;
     seq.progress = !quiet;
-    const sim::SequenceSummary summary = type == "scanning"
-                                             ? sim::writeScanningSequence(out, ego, world, scanning, seq)
-                                             : sim::writeAutomotiveSequence(out, ego, world, automotive, seq);
+    if (vm.count("start-stamp"))
+      seq.start_stamp_us = start_stamp;
+    else if (boreas && path.hasStamps() && start < path.size())
+      seq.start_stamp_us = std::llround(path.stamps[start] * 1e6);
+    sim::SequenceSummary summary;
+    if (boreas) {
+      // The Boreas sensor of the scans' date, as the reader will decide it.
+      scanning.range_resolution = boreasRangeResolution(1e-6 * static_cast<double>(seq.start_stamp_us));
+      scanning.bins = scanning.range_resolution == kBoreasBinBeforeUpgrade ? 3360 : 6848;
+      scanning.range_offset_bins = 0.5;
+      const sim::BoreasLayoutOptions layout{origin.x(), origin.y(), chirp_flags};
+      summary = sim::writeBoreasSequence(out, ego, world, scanning, seq, layout);
+    } else {
+      summary = type == "scanning" ? sim::writeScanningSequence(out, ego, world, scanning, seq)
+                                   : sim::writeAutomotiveSequence(out, ego, world, automotive, seq);
+    }
     std::printf("radar_sim: %s, %zu %s over %.1f s and %.2f km along %s, seed %llu -> %s (%.1f s, %.1f frames/s)\n",
                 type.c_str(), summary.frames, type == "scanning" ? "scans" : "front-radar sweeps", summary.duration,
                 summary.distance / 1000.0, source.c_str(), static_cast<unsigned long long>(seed), out.c_str(),

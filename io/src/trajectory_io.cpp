@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "radar_ndt/io/atomic_file.h"
+#include "radar_ndt/io/boreas_ground_truth.h"
 #include "radar_ndt/io/io_error.h"
 #include "read_file.h"
 #include "text_lines.h"
@@ -117,6 +118,42 @@ Trajectory parseTum(const std::string& path, const std::string& text) {
   return t;
 }
 
+// The Boreas leaderboard's radar frame is x forward, y right, z down: F = diag(1, −1, −1) turns
+// a pose between vehicle frames into one between radar frames and back (F is its own inverse).
+Eigen::Isometry3d flipAxes(const Eigen::Isometry3d& T) {
+  Eigen::Isometry3d f = Eigen::Isometry3d::Identity();
+  f.linear() = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  return f * T * f;
+}
+
+// pyboreas/eval/odometry.md: `<timestamp µs> <3x4 of T_rk_r0, row-major>` a line.
+Trajectory parseBoreasOdometry(const std::string& path, const std::string& text) {
+  Trajectory t;
+  forEachDataLine(path, text, [&](std::size_t line_no, const std::vector<double>& v) {
+    if (v.size() != 13)
+      throw IoError(
+          path, line_no,
+          "Boreas odometry line needs 13 numbers (µs timestamp, 3x4 pose), found " + std::to_string(v.size()));
+    const double stamp = 1e-6 * v[0];
+    if (!t.stamps.empty() && !(stamp > t.stamps.back()))
+      throw IoError(path, line_no,
+                    "timestamp " + std::to_string(static_cast<long long>(v[0])) + " is not after the previous one");
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) T.matrix()(r, c) = v[static_cast<std::size_t>(1 + r * 4 + c)];
+    checkRotation(path, line_no, T.linear());
+    t.stamps.push_back(stamp);
+    t.poses.push_back(flipAxes(T.inverse()));
+    return true;
+  });
+  if (t.empty()) throw IoError(path, "no poses in the file");
+  return t;
+}
+
+bool isBoreasPoseCsv(const std::string& text) {
+  return text.compare(0, 8, "GPSTime,") == 0;
+}
+
 }  // namespace
 
 Eigen::Isometry3d interpolate(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double u) {
@@ -145,8 +182,9 @@ TrajectoryFormat parseTrajectoryFormat(const std::string& name) {
   std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (n == "kitti") return TrajectoryFormat::Kitti;
   if (n == "tum") return TrajectoryFormat::Tum;
+  if (n == "boreas") return TrajectoryFormat::Boreas;
   if (n == "auto") return TrajectoryFormat::Auto;
-  throw std::invalid_argument("unknown trajectory format '" + name + "' (expected kitti, tum or auto)");
+  throw std::invalid_argument("unknown trajectory format '" + name + "' (expected kitti, tum, boreas or auto)");
 }
 
 Trajectory readKitti(const std::string& path) {
@@ -159,16 +197,20 @@ Trajectory readTum(const std::string& path) {
 
 Trajectory readTrajectory(const std::string& path, TrajectoryFormat format) {
   const std::string text = readWholeFile(path);
+  if (format == TrajectoryFormat::Auto && isBoreasPoseCsv(text)) return boreasRadarTrajectory(readBoreasPoses(path));
   if (format == TrajectoryFormat::Auto) {
     const std::size_t columns = firstDataColumnCount(path, text);
     if (columns == 12)
       format = TrajectoryFormat::Kitti;
     else if (columns == 8)
       format = TrajectoryFormat::Tum;
+    else if (columns == 13)
+      format = TrajectoryFormat::Boreas;
     else
       throw IoError(path, "cannot tell the trajectory format: the first pose line has " + std::to_string(columns) +
-                              " numbers (KITTI has 12, TUM 8)");
+                              " numbers (KITTI has 12, TUM 8, Boreas odometry 13)");
   }
+  if (format == TrajectoryFormat::Boreas) return parseBoreasOdometry(path, text);
   return format == TrajectoryFormat::Kitti ? parseKitti(path, text) : parseTum(path, text);
 }
 
@@ -201,7 +243,28 @@ void writeTum(const std::string& path, const Trajectory& trajectory) {
   writeFileAtomically(path, out.str());
 }
 
+void writeBoreasOdometry(const std::string& path, const Trajectory& trajectory) {
+  if (trajectory.stamps.size() != trajectory.poses.size())
+    throw IoError(path, "Boreas odometry output needs one timestamp per pose (" +
+                            std::to_string(trajectory.stamps.size()) + " stamps, " +
+                            std::to_string(trajectory.poses.size()) + " poses)");
+  std::ostringstream out;
+  char buf[64];
+  for (std::size_t i = 0; i < trajectory.size(); ++i) {
+    const Eigen::Isometry3d T = flipAxes(trajectory.poses[i].inverse());  // T_rk_r0
+    out << std::llround(trajectory.stamps[i] * 1e6);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) {
+        std::snprintf(buf, sizeof(buf), " %.12g", T.matrix()(r, c) == 0.0 ? 0.0 : T.matrix()(r, c));
+        out << buf;
+      }
+    out << '\n';
+  }
+  writeFileAtomically(path, out.str());
+}
+
 void writeTrajectory(const std::string& path, const Trajectory& trajectory, TrajectoryFormat format) {
+  if (format == TrajectoryFormat::Boreas) return writeBoreasOdometry(path, trajectory);
   if (format == TrajectoryFormat::Tum || (format == TrajectoryFormat::Auto && trajectory.hasStamps()))
     writeTum(path, trajectory);
   else

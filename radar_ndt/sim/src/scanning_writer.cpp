@@ -9,6 +9,8 @@
 #include <stdexcept>
 
 #include "radar_ndt/io/atomic_file.h"
+#include "radar_ndt/io/boreas_ground_truth.h"
+#include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/oxford_ground_truth.h"
 #include "radar_ndt/io/oxford_scan.h"
@@ -115,6 +117,62 @@ SequenceSummary writeScanningSequence(const std::string& dir, const SimTrajector
   }
   if (writing.valid()) writing.get();
   truth.write(dir);
+
+  SequenceSummary summary;
+  summary.frames = frames;
+  summary.duration = ego.stamps()[sequence.start + frames - 1] - t0;
+  summary.distance = ego.arcAt(t0 + summary.duration) - ego.arcAt(t0);
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
+  return summary;
+}
+
+SequenceSummary writeBoreasSequence(const std::string& dir, const SimTrajectory& ego, const WorldOptions& world_options,
+                                    const ScanningOptions& options, const SequenceOptions& sequence,
+                                    const BoreasLayoutOptions& layout) {
+  const auto wall = std::chrono::steady_clock::now();
+  world_options.validate();
+  options.validate();
+  sequence.validate();
+  const std::size_t frames = prepareScanningOutput(dir, ego, sequence);
+  std::error_code ec;
+  fs::create_directories(fs::path(dir) / "applanix", ec);
+  if (ec) throw IoError(dir, "cannot create applanix/: " + ec.message());
+  const World world = World::generate(ego, world_options);
+  const double t0 = ego.stamps()[sequence.start];
+  // The dataset names a scan by row floor(M / 2) − 1: the sweep starts that many azimuths earlier.
+  const int middle = std::max(0, options.azimuths / 2 - 1);
+  const double lead = middle * options.sweep_period / options.azimuths;
+  GroundTruthWriter truth;  // gt/poses.txt (the Oxford files it also writes are removed below)
+  std::vector<BoreasPose> poses;
+  PolarScan buffers[2];
+  std::future<void> writing;
+  for (std::size_t k = 0; k < frames; ++k) {
+    const double t = ego.stamps()[sequence.start + k];
+    PolarScan& scan = buffers[k % 2];
+    renderScan(world, ego, t - lead, world_options.seed, k, options, scan);
+    const std::int64_t base = toMicros(t - lead), start = sequence.start_stamp_us + toMicros(t - lead - t0);
+    for (auto& s : scan.stamp_us) s = start + (s - base);
+    scan.stamp = scan.stamp_us[static_cast<std::size_t>(std::min(middle, scan.azimuths - 1))];
+    scan.chirp_up.clear();
+    if (layout.chirp_flags)
+      for (int a = 0; a < scan.azimuths; ++a) scan.chirp_up.push_back(a % 2 == 0 ? 0 : 1);
+    if (writing.valid()) writing.get();  // rethrows a failed write
+    writing =
+        std::async(std::launch::async,
+                   [&scan, &sequence, path = (fs::path(dir) / "radar" / (std::to_string(scan.stamp) + ".png")).string(),
+                    encoder_size = options.encoder_size] {
+                     writeBoreasPolarPng(path, scan, encoder_size, sequence.png_compression);
+                   });
+    const Pose2 pose = ego.at(t);
+    const Eigen::Vector3d v = ego.velocity(t);
+    truth.add(k, scan.stamp, pose, options.sweep_period);
+    poses.push_back(boreasPoseFromPlanar(1e-6 * static_cast<double>(scan.stamp), pose.x() + layout.enu_east,
+                                         pose.y() + layout.enu_north, pose.z(), v.x(), v.y(), v.z()));
+    detail::progressLine(sequence.progress, "radar_sim: scan", k, frames);
+  }
+  if (writing.valid()) writing.get();
+  writeBoreasPoses((fs::path(dir) / "applanix" / "radar_poses.csv").string(), poses);
+  writeFileAtomically((fs::path(dir) / "gt" / "poses.txt").string(), truth.poses.str());
 
   SequenceSummary summary;
   summary.frames = frames;

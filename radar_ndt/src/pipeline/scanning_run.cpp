@@ -1,4 +1,5 @@
 #include "radar_ndt/pipeline/scanning_run.h"
+#include "radar_ndt/io/io_error.h"
 
 #include <algorithm>
 #include <chrono>
@@ -103,6 +104,22 @@ pcl::PointCloud<PointRadar> atReferenceTime(const pcl::PointCloud<PointRadar>& s
 }
 
 }  // namespace
+
+ScanningRunOptions defaultScanningOptions(const ScanningSequence& sequence) {
+  ScanningRunOptions o;
+  if (sequence.format() != ScanFormat::Boreas || sequence.size() == 0) return o;
+  bool chirps = false;
+  try {
+    chirps = !sequence.load(0).chirp_up.empty();
+  } catch (const IoError&) {
+    return o;  // the run reports the unreadable scan
+  }
+  if (chirps) {
+    o.front_end.threshold = kBoreasChirpThreshold;
+    o.odometry.power_shift = kBoreasChirpThreshold;  // the paper's s equals its threshold
+  }
+  return o;
+}
 
 ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const ScanningRunOptions& options,
                                       const std::function<void(std::size_t, std::size_t)>& progress,

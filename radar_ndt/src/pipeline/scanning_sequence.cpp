@@ -1,4 +1,6 @@
 #include "radar_ndt/pipeline/scanning_sequence.h"
+#include "radar_ndt/io/boreas_ground_truth.h"
+#include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/oxford_ground_truth.h"
 #include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/polar_scan.h"
@@ -7,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 #include <sys/stat.h>
 
@@ -39,67 +42,119 @@ void ScanningSequenceOptions::validate() const {
     fail("radiate.convention.range_resolution (the bin size) must be > 0");
   if (radiate.expected_azimuths < 0) fail("radiate.expected_azimuths must be >= 0 (0: any)");
   if (!(radiate.sweep_period > 0)) fail("radiate.sweep_period must be > 0");
+  try {
+    boreas.validate();
+  } catch (const std::invalid_argument& e) {
+    fail(std::string("boreas: ") + e.what());
+  }
 }
 
 ScanFormat parseScanFormat(const std::string& name) {
   if (name == "oxford") return ScanFormat::Oxford;
   if (name == "radiate") return ScanFormat::Radiate;
-  throw std::invalid_argument("unknown scanning format '" + name + "' (oxford, radiate)");
+  if (name == "boreas") return ScanFormat::Boreas;
+  throw std::invalid_argument("unknown scanning format '" + name + "' (oxford, radiate, boreas)");
 }
 
 const char* toString(ScanFormat f) {
-  return f == ScanFormat::Oxford ? "oxford" : "radiate";
+  switch (f) {
+    case ScanFormat::Oxford: return "oxford";
+    case ScanFormat::Radiate: return "radiate";
+    case ScanFormat::Boreas: return "boreas";
+  }
+  return "?";
 }
 
 ScanningSequence::ScanningSequence(const std::string& dir, ScanFormat format, const ScanningSequenceOptions& options)
     : dir_(dir), name_(baseName(dir)), format_(format), options_(options) {
-  if (format == ScanFormat::Oxford) {
-    const std::string index = dir + "/radar.timestamps";
-    if (!exists(index))
-      throw IoError(index, "missing: an Oxford-layout sequence has radar.timestamps and radar/<stamp>.png");
-    std::vector<IoError> skipped;
-    for (const OxfordStamp& s : readOxfordTimestamps(index, &skipped)) {
-      stamps_.push_back(s.stamp);
-      paths_.push_back(dir + "/radar/" + std::to_string(s.stamp) + ".png");
-    }
-    for (const IoError& e : skipped) index_problems_.push_back(e.what());
-    const std::string gt_path = dir + "/gt/radar_odometry.csv";
-    if (exists(gt_path)) {
-      const std::vector<OxfordRelativePose> rows = readOxfordRadarOdometry(gt_path);
-      // Chain the relative motions from the first row's destination scan. Oxford axes (x forward,
-      // y right, z down) → vehicle axes (x forward, y left, z up): y and yaw change sign. Each pose
-      // is keyed by its scan's radar timestamp (source_radar_timestamp: the scan's file name and
-      // index stamp, its first azimuth), not by source_timestamp, which in the dataset lies about
-      // half a sweep later: keyed by the latter, no pose would meet its scan within a tolerance
-      // shorter than that half sweep.
-      Pose2 pose = Pose2::Zero();
-      if (!rows.empty()) {
-        ground_truth_.stamps.push_back(1e-6 * static_cast<double>(rows.front().destination_radar));
-        ground_truth_.poses.push_back(toIsometry3(pose));
-      }
-      for (const auto& r : rows) {
-        pose = compose(pose, Pose2(r.x, -r.y, -r.yaw));
-        ground_truth_.stamps.push_back(1e-6 * static_cast<double>(r.source_radar));
-        ground_truth_.poses.push_back(toIsometry3(pose));
-      }
-    }
-  } else {
-    const std::string index = dir + "/Navtech_Polar.txt";
-    if (!exists(index))
-      throw IoError(index, "missing: a RADIATE sequence has Navtech_Polar.txt and Navtech_Polar/<frame>.png");
-    std::vector<IoError> skipped;
-    for (const RadiateFrame& f : readRadiateFrameTimes(index, &skipped)) {
-      char name[32];
-      std::snprintf(name, sizeof name, "%06d.png", f.frame);
-      stamps_.push_back(f.stamp_us);
-      paths_.push_back(dir + "/Navtech_Polar/" + name);
-    }
-    for (const IoError& e : skipped) index_problems_.push_back(e.what());
-  }
+  if (format == ScanFormat::Oxford)
+    openOxford();
+  else if (format == ScanFormat::Radiate)
+    openRadiate();
+  else
+    openBoreas();
   if (stamps_.empty()) throw IoError(dir, "the sequence lists no scans");
   std::vector<double> d;
   for (std::size_t k = 1; k < stamps_.size(); ++k) d.push_back(1e-6 * static_cast<double>(stamps_[k] - stamps_[k - 1]));
   period_s_ = median(d);
+}
+
+void ScanningSequence::openOxford() {
+  const std::string& dir = dir_;
+  const std::string index = dir + "/radar.timestamps";
+  if (!exists(index))
+    throw IoError(index, "missing: an Oxford-layout sequence has radar.timestamps and radar/<stamp>.png");
+  std::vector<IoError> skipped;
+  for (const OxfordStamp& s : readOxfordTimestamps(index, &skipped)) {
+    stamps_.push_back(s.stamp);
+    paths_.push_back(dir + "/radar/" + std::to_string(s.stamp) + ".png");
+  }
+  for (const IoError& e : skipped) index_problems_.push_back(e.what());
+  const std::string gt_path = dir + "/gt/radar_odometry.csv";
+  if (exists(gt_path)) {
+    const std::vector<OxfordRelativePose> rows = readOxfordRadarOdometry(gt_path);
+    // Chain the relative motions from the first row's destination scan. Oxford axes (x forward,
+    // y right, z down) → vehicle axes (x forward, y left, z up): y and yaw change sign. Each pose
+    // is keyed by its scan's radar timestamp (source_radar_timestamp: the scan's file name and
+    // index stamp, its first azimuth), not by source_timestamp, which in the dataset lies about
+    // half a sweep later: keyed by the latter, no pose would meet its scan within a tolerance
+    // shorter than that half sweep.
+    Pose2 pose = Pose2::Zero();
+    if (!rows.empty()) {
+      ground_truth_.stamps.push_back(1e-6 * static_cast<double>(rows.front().destination_radar));
+      ground_truth_.poses.push_back(toIsometry3(pose));
+    }
+    for (const auto& r : rows) {
+      pose = compose(pose, Pose2(r.x, -r.y, -r.yaw));
+      ground_truth_.stamps.push_back(1e-6 * static_cast<double>(r.source_radar));
+      ground_truth_.poses.push_back(toIsometry3(pose));
+    }
+  }
+}
+
+void ScanningSequence::openRadiate() {
+  const std::string& dir = dir_;
+  const std::string index = dir + "/Navtech_Polar.txt";
+  if (!exists(index))
+    throw IoError(index, "missing: a RADIATE sequence has Navtech_Polar.txt and Navtech_Polar/<frame>.png");
+  std::vector<IoError> skipped;
+  for (const RadiateFrame& f : readRadiateFrameTimes(index, &skipped)) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d.png", f.frame);
+    stamps_.push_back(f.stamp_us);
+    paths_.push_back(dir + "/Navtech_Polar/" + name);
+  }
+  for (const IoError& e : skipped) index_problems_.push_back(e.what());
+}
+
+void ScanningSequence::openBoreas() {
+  namespace fs = std::filesystem;
+  const fs::path radar = fs::path(dir_) / "radar";
+  std::error_code ec;
+  if (!fs::is_directory(radar, ec))
+    throw IoError(radar.string(), "missing: a Boreas sequence has radar/<stamp>.png (and applanix/radar_poses.csv)");
+  std::vector<std::pair<std::int64_t, std::string>> scans;
+  for (const fs::directory_entry& e : fs::directory_iterator(radar, ec)) {
+    if (e.path().extension() != ".png") continue;
+    std::int64_t stamp = 0;
+    if (boreasTimeMicros(e.path().stem().string(), &stamp))
+      scans.emplace_back(stamp, e.path().string());
+    else
+      index_problems_.push_back(e.path().string() + ": left out, its name is not a timestamp");
+  }
+  if (ec) throw IoError(radar.string(), "cannot list the scans: " + ec.message());
+  std::sort(scans.begin(), scans.end());
+  for (std::size_t k = 0; k < scans.size(); ++k) {
+    if (k > 0 && scans[k].first == scans[k - 1].first) {
+      index_problems_.push_back(scans[k].second + ": left out, the same timestamp as " + scans[k - 1].second);
+      continue;
+    }
+    stamps_.push_back(scans[k].first);
+    paths_.push_back(scans[k].second);
+  }
+  // The radar's own pose at each scan (pyboreas/utils/odometry.py get_sequence_poses_gt, dim 2).
+  const std::string gt_path = dir_ + "/applanix/radar_poses.csv";
+  if (exists(gt_path)) ground_truth_ = boreasRadarTrajectory(readBoreasPoses(gt_path));
 }
 
 PolarScan ScanningSequence::load(std::size_t k) const {
@@ -108,6 +163,7 @@ PolarScan ScanningSequence::load(std::size_t k) const {
     scan.stamp = stamps_[k];  // the index's stamp is the scan's reference time
     return scan;
   }
+  if (format_ == ScanFormat::Boreas) return readBoreasPolarPng(paths_[k], options_.boreas);
   return readRadiatePolarPng(paths_[k], stamps_[k], options_.radiate);
 }
 

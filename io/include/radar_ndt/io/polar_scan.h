@@ -1,9 +1,9 @@
 #pragma once
 // Scanning-radar (Navtech) polar images as the readers return them (PolarScan), and how a
 // dataset's azimuth index maps to the vehicle frame (PolarConvention). The datasets' own layouts:
-// oxford_scan.h (Oxford Radar RobotCar) and radiate_scan.h (RADIATE).
+// oxford_scan.h (Oxford Radar RobotCar), boreas_scan.h (Boreas) and radiate_scan.h (RADIATE).
 //
-// Both datasets store one 8-bit power value per (azimuth, range bin). Where azimuth 0 points and
+// The datasets store one 8-bit power value per (azimuth, range bin). Where azimuth 0 points and
 // which way azimuth turns are settings (PolarConvention) with each dataset's defaults; the reader
 // converts them once, so a PolarScan's azimuth angles are already in the vehicle frame of
 // ARCHITECTURE.md (x forward, y left, z up; angle counter-clockwise from x seen from above).
@@ -21,17 +21,22 @@ struct PolarScan {
   std::vector<std::uint8_t> power;
   /// Per azimuth: angle in the vehicle frame (rad, counter-clockwise from x forward, in (−π, π]).
   std::vector<double> angle;
-  /// Per azimuth: timestamp in microseconds (Oxford: from the row; RADIATE: spread evenly over the
-  /// sweep from the frame time), non-decreasing.
+  /// Per azimuth: timestamp in microseconds (Oxford, Boreas: from the row; RADIATE: spread evenly
+  /// over the sweep from the frame time), non-decreasing.
   std::vector<std::int64_t> stamp_us;
   /// Per azimuth: true where the sensor measured it (Oxford flag 255); false where it interpolated
   /// the row (still usable data). RADIATE has no flag: all true.
   std::vector<std::uint8_t> measured;
-  /// Per azimuth: the raw encoder count (Oxford, out of `encoder_size`); empty for RADIATE.
+  /// Per azimuth: the raw encoder count (Oxford, Boreas: out of `encoder_size`); empty for RADIATE.
   std::vector<std::uint16_t> encoder;
+  /// Per azimuth, for radars that alternate chirps (Boreas from 2024): 1 for an up-chirp, 0 for a
+  /// down-chirp, whose ranges are shifted by a Doppler-dependent amount in opposite directions.
+  /// Empty when the scan has no chirp types.
+  std::vector<std::uint8_t> chirp_up;
   double range_resolution = 0.0;   ///< metres per bin
   double range_offset_bins = 0.0;  ///< range of bin b is (b + range_offset_bins) · range_resolution
-  std::int64_t stamp = 0;          ///< the scan's reference timestamp (µs): Oxford: the file name
+  std::int64_t stamp =
+      0;  ///< the scan's reference timestamp (µs): the file name (Oxford: first row; Boreas: middle row)
 
   float powerAt(int a, int b) const {
     return static_cast<float>(power[static_cast<std::size_t>(a) * bins + b]) / 255.0f;

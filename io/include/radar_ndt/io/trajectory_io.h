@@ -1,7 +1,8 @@
 #pragma once
-// Trajectory files: KITTI (12 numbers a line: the row-major 3x4 pose) and TUM
-// (`t x y z qx qy qz qw`, quaternion Hamilton convention, scalar last). Lines starting with '#'
-// and blank lines are skipped in both. Readers throw radar_ndt::IoError naming file and line.
+// Trajectory files: KITTI (12 numbers a line: the row-major 3x4 pose), TUM
+// (`t x y z qx qy qz qw`, quaternion Hamilton convention, scalar last) and the Boreas odometry
+// leaderboard's (below). Lines starting with '#' and blank lines are skipped in all. Readers throw radar_ndt::IoError
+// naming file and line.
 
 #include <string>
 #include <vector>
@@ -32,9 +33,12 @@ struct Trajectory {
 /// The pose a fraction `u` of the way from `a` to `b`: translation linear, rotation by slerp.
 Eigen::Isometry3d interpolate(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double u);
 
-enum class TrajectoryFormat { Auto, Kitti, Tum };
+/// Boreas: the Boreas odometry leaderboard's file (pyboreas/eval/odometry.md): a line per scan,
+/// `<timestamp µs>` and the row-major 3x4 of T_rk_r0, the transform from the first radar frame to
+/// scan k's, in the radar's axes (x forward, y right, z down); read back as vehicle poses.
+enum class TrajectoryFormat { Auto, Kitti, Tum, Boreas };
 
-/// "kitti", "tum" or "auto" (case-insensitive); throws std::invalid_argument otherwise.
+/// "kitti", "tum", "boreas" or "auto" (case-insensitive); throws std::invalid_argument otherwise.
 TrajectoryFormat parseTrajectoryFormat(const std::string& name);
 
 /// Reads a KITTI file. Each rotation block must be a rotation (orthonormal, det +1, to 1e-3);
@@ -45,13 +49,17 @@ Trajectory readKitti(const std::string& path);
 /// far from 1 or zero is an error).
 Trajectory readTum(const std::string& path);
 
-/// Auto: decides by the column count of the first data line (12: KITTI, 8: TUM).
+/// Auto: a Boreas pose CSV (`GPSTime,...` header, boreas_ground_truth.h) is read as the radar's
+/// vehicle-frame trajectory; otherwise by the column count of the first data line (12: KITTI,
+/// 8: TUM, 13: Boreas odometry).
 Trajectory readTrajectory(const std::string& path, TrajectoryFormat format = TrajectoryFormat::Auto);
 
 /// Writers replace `path` atomically (written to a temporary file beside it, then renamed), so an
 /// interrupted run never leaves a half-written file under the final name. TUM needs stamps.
 void writeKitti(const std::string& path, const Trajectory& trajectory);
 void writeTum(const std::string& path, const Trajectory& trajectory);
+/// Needs stamps, as TUM.
+void writeBoreasOdometry(const std::string& path, const Trajectory& trajectory);
 void writeTrajectory(const std::string& path, const Trajectory& trajectory, TrajectoryFormat format);
 
 }  // namespace radar_ndt

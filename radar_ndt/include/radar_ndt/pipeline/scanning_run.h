@@ -47,6 +47,16 @@ struct ScanningRunOptions {
   void validate() const;
 };
 
+/// The defaults for the radar `sequence` was recorded with: the paper's (ScanningRunOptions{}) for
+/// every dataset but Boreas scans with chirp types (the radar of its 2024 sequences, told by the
+/// first scan's flag bytes), which are brighter: their threshold and power shift are raised so the
+/// front-end keeps the share of the image the paper's threshold keeps of Oxford's
+/// (docs/data_formats.md, "Boreas defaults"). Apps apply the command line over these.
+ScanningRunOptions defaultScanningOptions(const ScanningSequence& sequence);
+
+/// The threshold (and power shift) for Boreas scans with chirp types.
+constexpr float kBoreasChirpThreshold = 0.43f;
+
 struct ScanningRunResult {
   std::string sequence;
   ScanFormat format = ScanFormat::Oxford;

@@ -6,12 +6,16 @@
 //  - oxford: DIR/radar.timestamps, DIR/radar/<stamp>.png (Oxford Radar RobotCar; what radar_sim
 //    writes), optional ground truth DIR/gt/radar_odometry.csv (Oxford axes, converted here);
 //  - radiate: DIR/Navtech_Polar.txt and DIR/Navtech_Polar/<frame, 6 digits>.png (RADIATE), no
-//    ground truth.
+//    ground truth;
+//  - boreas: DIR/radar/<stamp>.png (Boreas: no index file, the scans are the directory's PNGs
+//    named by their time), optional ground truth DIR/applanix/radar_poses.csv (the radar's own
+//    pose at each scan: no extrinsic calibration needed; DIR/calib/ is not read).
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/radiate_scan.h"
@@ -19,14 +23,15 @@
 
 namespace radar_ndt {
 
-enum class ScanFormat { Oxford, Radiate };
-/// "oxford" or "radiate"; throws std::invalid_argument otherwise.
+enum class ScanFormat { Oxford, Radiate, Boreas };
+/// "oxford", "radiate" or "boreas"; throws std::invalid_argument otherwise.
 ScanFormat parseScanFormat(const std::string& name);
 const char* toString(ScanFormat format);
 
 struct ScanningSequenceOptions {
   OxfordPolarOptions oxford;
   RadiatePolarOptions radiate;
+  BoreasPolarOptions boreas;
   /// Throws std::invalid_argument naming the setting out of range (bin sizes, expected widths).
   void validate() const;
 };
@@ -34,7 +39,8 @@ struct ScanningSequenceOptions {
 /// The scans of one sequence directory, in time order.
 class ScanningSequence {
  public:
-  /// Reads the index (timestamps, frame list) and, for oxford, the ground truth when present.
+  /// Reads the index (timestamps, frame list; boreas: the PNGs in radar/) and, for oxford and
+  /// boreas, the ground truth when present.
   /// Throws IoError naming the file when the index is missing or lists no scan; bad index lines
   /// (unparsable, duplicated or out-of-order timestamps) are left out and listed in indexProblems().
   ScanningSequence(const std::string& dir, ScanFormat format, const ScanningSequenceOptions& options = {});
@@ -52,7 +58,8 @@ class ScanningSequence {
   /// SE(2) ground truth in the vehicle frame (x forward, y left), seconds; the first pose is the
   /// first scan the ground truth covers. Empty when the sequence has none.
   const Trajectory& groundTruth() const { return ground_truth_; }
-  /// Index lines that were left out, each naming the file, the line and the problem.
+  /// Index lines (boreas: files in radar/ not named by a time) that were left out, each naming the
+  /// file, the line and the problem.
   const std::vector<std::string>& indexProblems() const { return index_problems_; }
 
  private:
@@ -64,6 +71,10 @@ class ScanningSequence {
   double period_s_ = 0;
   Trajectory ground_truth_;
   std::vector<std::string> index_problems_;
+
+  void openOxford();
+  void openRadiate();
+  void openBoreas();
 };
 
 }  // namespace radar_ndt

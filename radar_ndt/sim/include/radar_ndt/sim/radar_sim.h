@@ -326,6 +326,26 @@ struct SequenceSummary {
 SequenceSummary writeScanningSequence(const std::string& dir, const SimTrajectory& ego, const WorldOptions& world,
                                       const ScanningOptions& options, const SequenceOptions& sequence);
 
+/// The Boreas layout's extras: where the scene lies in ENU and the radar it imitates.
+struct BoreasLayoutOptions {
+  /// Added to every position of applanix/radar_poses.csv (the simulator works near the origin;
+  /// the dataset's ENU positions are UTM-sized).
+  double enu_east = 0.0, enu_north = 0.0;
+  /// Write the flag byte as alternating chirp types (255 up, 0 down, as 2024 scans) instead of
+  /// validity flags. The ranges are not shifted: the simulator has no chirp model yet.
+  bool chirp_flags = false;
+};
+
+/// Writes a Boreas-layout sequence into `dir`, as the dataset lays it out: radar/<stamp>.png, each
+/// named by its row 199's timestamp (floor(M / 2) − 1: the sweep's middle, which is at trajectory
+/// pose `start + k`), and applanix/radar_poses.csv, the radar's pose at each scan in the dataset's
+/// frames and units (ENU; the radar's x forward, y right, z down, roll π; GPSTime in ns), with
+/// gt/poses.txt (KITTI, vehicle frame, first pose identity) as for Oxford. `options` gives the bins
+/// (the reader decides their size by the scan's date, so it must match `sequence.start_stamp_us`).
+SequenceSummary writeBoreasSequence(const std::string& dir, const SimTrajectory& ego, const WorldOptions& world,
+                                    const ScanningOptions& options, const SequenceOptions& sequence,
+                                    const BoreasLayoutOptions& layout);
+
 /// Writes a nuScenes-layout dataroot into `dir`: v1.0-sim/{sensor,calibrated_sensor,sample_data,
 /// ego_pose,sample,scene,log}.json and samples|sweeps/RADAR_*/...pcd (binary, the 18-field
 /// layout), one scene.

@@ -16,6 +16,7 @@
 #include "radar_ndt/pipeline/scanning_run.h"
 #include "radar_ndt/pipeline/scanning_sequence.h"
 #include "radar_ndt/se2.h"
+#include "radar_ndt/sim/radar_sim.h"
 #include "test_support.h"
 
 using namespace radar_ndt;
@@ -311,4 +312,41 @@ TEST(BoreasDefaults, ChirpScansGetTheirOwnThresholdOthersThePapers) {
   EXPECT_EQ(chirps.front_end.threshold, kBoreasChirpThreshold);
   EXPECT_EQ(chirps.odometry.power_shift, kBoreasChirpThreshold);
   EXPECT_GT(kBoreasChirpThreshold, paper.front_end.threshold);
+}
+
+// The simulator's Boreas layout: each scan named by its row 199 (the sweep's middle), and the pose
+// file's row for it the vehicle's pose at that instant, in the dataset's units.
+TEST(BoreasSimLayout, ScansAreNamedByTheirMiddleRowAndPosedThere) {
+  const std::string dir = freshTempDir("boreas_sim_layout");
+  const sim::SimTrajectory ego = sim::builtinDrive(20.0);
+  sim::WorldOptions world;
+  sim::ScanningOptions scanning;
+  sim::applyProfile(sim::ScanningProfile::Oxford, world, scanning);
+  scanning.bins = 800;  // small scans: only the layout is checked here
+  scanning.range_resolution = kBoreasBinBeforeUpgrade;
+  sim::SequenceOptions seq;
+  seq.start = 20;
+  seq.frames = 3;
+  seq.start_stamp_us = 1628185286000000;
+  sim::writeBoreasSequence(dir, ego, world, scanning, seq, sim::BoreasLayoutOptions{1000.0, 2000.0, false});
+  const ScanningSequence s(dir, ScanFormat::Boreas);
+  ASSERT_EQ(s.size(), 3u);
+  ASSERT_TRUE(s.hasGroundTruth());
+  const std::vector<BoreasPose> rows = readBoreasPoses(dir + "/applanix/radar_poses.csv");
+  ASSERT_EQ(rows.size(), 3u);
+  const double t0 = ego.stamps()[seq.start];
+  for (std::size_t k = 0; k < 3; ++k) {
+    const PolarScan scan = s.load(k);
+    EXPECT_EQ(scan.stamp, scan.stamp_us[199]);
+    EXPECT_EQ(rows[k].stamp_us, scan.stamp);
+    EXPECT_EQ(rows[k].time_digits, 19);
+    EXPECT_TRUE(scan.chirp_up.empty());
+    // The scan's middle row is at trajectory pose start + k.
+    const double t = t0 + 1e-6 * static_cast<double>(scan.stamp - seq.start_stamp_us);
+    EXPECT_NEAR(t, ego.stamps()[seq.start + k], 1e-6);
+    const Pose2 truth = ego.at(t);
+    EXPECT_NEAR(rows[k].position.x(), truth.x() + 1000.0, 1e-6);
+    EXPECT_NEAR(rows[k].position.y(), truth.y() + 2000.0, 1e-6);
+    EXPECT_NEAR(std::remainder(rows[k].heading - truth.z(), 2 * kPi), 0.0, 1e-9);
+  }
 }

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <type_traits>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
@@ -57,13 +58,22 @@ json finish(const Run& r, const std::string& name, const Outputs& o, std::option
     if (!o.plot.empty())
       writeEvaluationSvg(o.fileFor(o.plot, name), pairs, *report, name + " (" + toString(r.method) + ")");
   }
+  // Beside the method, its own prior: each step's initial guess judged as its match is.
+  const FrameError prior = o.eval ? priorFrameError(r.steps, r.ground_truth) : FrameError{};
+  const char* prior_label = std::is_same_v<Run, ScanningRunResult> ? "constant velocity" : "Doppler ego-motion";
   if (!o.json) {
     std::cout << summaryText(r);
-    if (report) std::cout << formatTable(*report);
+    if (report) std::cout << formatTable(*report) << priorText(prior, prior_label);
   }
   const std::string failure = failureText(r);
   if (!failure.empty()) o.failures->push_back(failure);
-  return json::parse(summaryJson(r, report ? &*report : nullptr));
+  json out = json::parse(summaryJson(r, report ? &*report : nullptr));
+  if (prior.pairs > 0)
+    out["prior_frame"] = {{"prior", prior_label},
+                          {"trans_err_m", prior.trans_err_m},
+                          {"rot_err_deg", prior.rot_err_deg},
+                          {"pairs", prior.pairs}};
+  return out;
 }
 
 /// One JSON object for one run; for several, {"runs": [...], "mean": {"metrics": ...}} under the

@@ -195,7 +195,7 @@ int main(int argc, char** argv) {
   bool chirp_flags = false;
   std::size_t frames = 0, start = 0;
   std::uint64_t seed = 1;
-  double period = 0.25, view_range = 62.5, realism_threshold = 0.333;
+  double period = 0.25, view_range = 62.5, realism_threshold = 0.333, chirp_beta = 0.049;
   int compression = 1;
   std::vector<std::string> sets;
   bool list = false, quiet = false;
@@ -216,8 +216,10 @@ int main(int argc, char** argv) {
      "the first scan's time (µs since 1970); default: the trajectory's own time for a Boreas pose file, else "
      "1547120000000000 (2019-01-10)")
     ("chirp-flags", po::bool_switch(&chirp_flags),
-     "--layout boreas: write the flag byte as alternating up/down chirp types, as 2024 Boreas scans (the ranges "
-     "are not shifted: no chirp model)")
+     "--layout boreas: write the flag byte as alternating up/down chirp types, as 2024 Boreas scans, and shift "
+     "each azimuth's ranges by +-beta times the scenery's radial velocity as its chirp does")
+    ("chirp-beta", po::value(&chirp_beta)->default_value(0.049),
+     "with --chirp-flags: the range-Doppler coupling beta (s; m of shift per m/s); 0: flags without shifts")
     ("period", po::value(&period)->default_value(0.25), "s between poses of a trajectory without timestamps (KITTI)")
     ("out", po::value(&out), "output directory (created)")
     ("frames", po::value(&frames)->default_value(0),
@@ -465,7 +467,7 @@ int main(int argc, char** argv) {
       scanning.range_resolution = boreasRangeResolution(1e-6 * static_cast<double>(seq.start_stamp_us));
       scanning.bins = scanning.range_resolution == kBoreasBinBeforeUpgrade ? 3360 : 6848;
       scanning.range_offset_bins = 0.5;
-      const sim::BoreasLayoutOptions layout{origin.x(), origin.y(), chirp_flags};
+      const sim::BoreasLayoutOptions layout{origin.x(), origin.y(), chirp_flags, chirp_beta};
       summary = sim::writeBoreasSequence(out, ego, world, scanning, seq, layout);
     } else {
       summary = type == "scanning" ? sim::writeScanningSequence(out, ego, world, scanning, seq)

@@ -350,3 +350,30 @@ TEST(BoreasSimLayout, ScansAreNamedByTheirMiddleRowAndPosedThere) {
     EXPECT_NEAR(std::remainder(rows[k].heading - truth.z(), 2 * kPi), 0.0, 1e-9);
   }
 }
+
+// The simulator's chirp model: driving forward at 10 m/s, the scenery straight ahead approaches
+// (v_r = −10 m/s), so an up-chirp azimuth shows it β·10 m nearer and a down-chirp one as much
+// farther; straight abeam (v_r = 0) nothing moves.
+TEST(BoreasSimLayout, ChirpsShiftRangesByTheRadialVelocityInOppositeDirections) {
+  const sim::SimTrajectory ego({0.0, 1.0, 2.0}, {Pose2(0, 0, 0), Pose2(10, 0, 0), Pose2(20, 0, 0)});
+  PolarScan s;
+  s.azimuths = 4;
+  s.bins = 400;
+  s.range_resolution = 0.0596;
+  s.power.assign(static_cast<std::size_t>(s.azimuths) * s.bins, 0);
+  for (int a = 0; a < s.azimuths; ++a) {
+    s.angle.push_back(a < 2 ? 0.0 : kPi / 2);  // rows 0, 1 straight ahead; 2, 3 to the left
+    s.stamp_us.push_back(1000000);
+    s.row(a)[200] = 250;
+  }
+  s.chirp_up = {1, 0, 1, 0};
+  const double beta = 0.049;
+  sim::applyChirpShift(s, ego, 0.0, 0, beta);
+  auto peak = [&](int a) { return static_cast<int>(std::max_element(s.row(a), s.row(a) + s.bins) - s.row(a)); };
+  const double bins = beta * 10.0 / 0.0596;                      // 8.2
+  EXPECT_EQ(peak(0), static_cast<int>(std::round(200 - bins)));  // up-chirp: nearer
+  EXPECT_EQ(peak(1), static_cast<int>(std::round(200 + bins)));  // down-chirp: farther
+  EXPECT_EQ(peak(2), 200);
+  EXPECT_EQ(peak(3), 200);
+  EXPECT_EQ(s.row(2)[200], 250);
+}

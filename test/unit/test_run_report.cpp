@@ -138,3 +138,33 @@ TEST(RunReport, TheSummaryAccountsForEveryStepAndAFailedRunSaysSo) {
   a.counters = doppler.counters();
   EXPECT_EQ(failureText(a), "");
 }
+
+TEST(RunReport, ThePriorIsJudgedAgainstTheTruthAsTheMatchesAre) {
+  // The truth: 1 m a step along x, 0.01 rad a step; each step's guess 1.1 m and 0.03 rad, its
+  // match exact. A skipped step has no pose and is left out; the first has no motion.
+  Trajectory gt;
+  for (int k = 0; k < 6; ++k) {
+    gt.stamps.push_back(0.25 * k);
+    gt.poses.push_back(toIsometry3(Pose2(1.0 * k, 0.0, 0.01 * k)));
+  }
+  std::vector<OdometryStep> steps;
+  for (int k = 0; k < 6; ++k) {
+    OdometryStep s;
+    s.timestamp_us = 250000 * k;
+    s.status = k == 0 ? StepStatus::First : StepStatus::Matched;
+    const Pose2 truth = between(Pose2(1.0 * (k - 1), 0.0, 0.01 * (k - 1)), Pose2(1.0 * k, 0.0, 0.01 * k));
+    s.motion = truth;
+    s.doppler_motion = truth + Pose2(0.1, 0.0, 0.02);
+    steps.push_back(s);
+  }
+  OdometryStep skipped = steps[3];
+  skipped.status = StepStatus::Skipped;
+  skipped.doppler_motion = Pose2(50.0, 0.0, 1.0);  // would dominate the mean if counted
+  steps.insert(steps.begin() + 4, skipped);
+  const FrameError prior = priorFrameError(steps, gt);
+  EXPECT_EQ(prior.pairs, 5u);
+  EXPECT_NEAR(prior.rot_err_deg, 0.02 * 180.0 / kPi, 1e-9);
+  EXPECT_NEAR(prior.trans_err_m, 0.1, 2e-3);  // the guess's extra 0.1 m, seen from the turned frame
+  EXPECT_NE(priorText(prior, "constant velocity").find("prior (constant velocity): frame 0.1"), std::string::npos);
+  EXPECT_EQ(priorText(FrameError{}, "constant velocity"), "");
+}

@@ -204,4 +204,38 @@ std::string summaryText(const ScanningRunResult& r) {
   return s;
 }
 
+FrameError priorFrameError(const std::vector<OdometryStep>& steps, const Trajectory& gt) {
+  FrameError out;
+  double st = 0, sr = 0;
+  const OdometryStep* previous = nullptr;
+  Eigen::Isometry3d previous_gt;
+  for (const OdometryStep& s : steps) {
+    if (s.status == StepStatus::Skipped) continue;
+    Eigen::Isometry3d here;
+    const bool covered = gt.poseAt(1e-6 * static_cast<double>(s.timestamp_us), &here);
+    if (covered && previous != nullptr && s.status != StepStatus::First) {
+      // As frameError: E = guess⁻¹ · truth, its translation norm and rotation angle.
+      const Eigen::Isometry3d E = toIsometry3(s.doppler_motion).inverse() * (previous_gt.inverse() * here);
+      st += E.translation().norm();
+      sr += rotationAngle(E.linear());
+      ++out.pairs;
+    }
+    previous = covered ? &s : nullptr;
+    previous_gt = here;
+  }
+  if (out.pairs > 0) {
+    out.trans_err_m = st / static_cast<double>(out.pairs);
+    out.rot_err_deg = sr * 180.0 / kPi / static_cast<double>(out.pairs);
+  }
+  return out;
+}
+
+std::string priorText(const FrameError& prior, const char* label) {
+  if (prior.pairs == 0) return "";
+  char line[160];
+  std::snprintf(line, sizeof line, "prior (%s): frame %.5f m %.5f deg over %zu pairs\n", label, prior.trans_err_m,
+                prior.rot_err_deg, prior.pairs);
+  return line;
+}
+
 }  // namespace radar_ndt

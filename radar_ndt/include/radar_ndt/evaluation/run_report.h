@@ -33,6 +33,15 @@ std::string stepsCsv(const ScanningRunResult& run);
 std::string summaryJson(const AutomotiveRunResult& run, const EvaluationReport* metrics = nullptr);
 std::string summaryJson(const ScanningRunResult& run, const EvaluationReport* metrics = nullptr);
 
+/// The method's own prior, judged as the matches are: the mean frame error of each step's initial
+/// guess (scanning: constant velocity; nuScenes: the Doppler ego-motion) against the ground-truth
+/// motion between that step and the one before it (steps with a pose, both inside the ground
+/// truth). What a matcher that returned its guess would score on the frame metric.
+FrameError priorFrameError(const std::vector<OdometryStep>& steps, const Trajectory& ground_truth);
+/// One line for the apps: "prior (constant velocity): frame X m Y deg over N pairs" (the label
+/// says which prior), "" without pairs.
+std::string priorText(const FrameError& prior, const char* label);
+
 /// For a run whose steps were mostly not matched (OdometryCounters::mostlyUnmatched: fallbacks,
 /// too few points and unreadable files, more than half of the steps after the first), one line
 /// that says so, how, and what to check; "" otherwise. radar_odometry prints it last and exits 1.

@@ -332,9 +332,19 @@ struct BoreasLayoutOptions {
   /// the dataset's ENU positions are UTM-sized).
   double enu_east = 0.0, enu_north = 0.0;
   /// Write the flag byte as alternating chirp types (255 up, 0 down, as 2024 scans) instead of
-  /// validity flags. The ranges are not shifted: the simulator has no chirp model yet.
+  /// validity flags, and shift each azimuth's ranges as its chirp does.
   bool chirp_flags = false;
+  /// FMCW range-Doppler coupling (s): with chirp flags, an up-chirp azimuth shows a scatterer whose
+  /// radial velocity is v_r (positive receding) at r + β·v_r, a down-chirp one at r − β·v_r
+  /// (β = carrier frequency / chirp slope). The simulator's scatterers are static, so v_r is the
+  /// sensor's own velocity along the beam, negated. 0: no shift.
+  double chirp_beta = 0.049;
 };
+
+/// Shifts each azimuth of `scan` by ±β·v_r as its chirp type says (BoreasLayoutOptions), v_r the
+/// radial velocity of static scenery along that azimuth at its row's time `t0 + (stamp_us −
+/// stamp0_us)`, resampled linearly along the range bins.
+void applyChirpShift(PolarScan& scan, const SimTrajectory& ego, double t0, std::int64_t stamp0_us, double beta);
 
 /// Writes a Boreas-layout sequence into `dir`, as the dataset lays it out: radar/<stamp>.png, each
 /// named by its row 199's timestamp (floor(M / 2) − 1: the sweep's middle, which is at trajectory

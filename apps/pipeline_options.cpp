@@ -109,6 +109,8 @@ void addPipelineOptions(po::options_description& opts) {
      ("scanning: match to a keyframe replaced after this many metres (or " +
      num(s.odometry.keyframes.rotation) + " rad, or a failed match), default " +
      num(s.odometry.keyframes.distance) + "; 0: scan to scan as the paper").c_str())
+    ("no-chirp-correction", po::bool_switch(),
+     "scanning: leave the up/down-chirp range shifts of scans with chirp types (boreas, 2024) as they are")
     ("no-motion-compensation", po::bool_switch(),
      "scanning: do not move points to the scan's reference time (ablation)")
     ("compensation-rounds", po::value<int>(), ("scanning: matches per scan at most, the velocity of the points' motion "
@@ -170,6 +172,7 @@ ScanningRunOptions scanningOptions(const po::variables_map& vm, const ScanningRu
   if (has("compensation-rounds")) od.compensation.max_rounds = vm["compensation-rounds"].as<int>();
   if (has("compensation-tolerance")) od.compensation.tolerance = vm["compensation-tolerance"].as<double>();
   od.shift_source_weights = !vm["no-source-shift"].as<bool>();
+  if (vm["no-chirp-correction"].as<bool>()) o.chirp.enabled = false;
   if (has("keyframe-distance")) od.keyframes.distance = vm["keyframe-distance"].as<double>();
   od.gate.enabled = !vm["no-gate"].as<bool>();
   if (has("threshold")) o.front_end.threshold = static_cast<float>(vm["threshold"].as<double>());

@@ -96,7 +96,7 @@ std::vector<BoreasPose> readBoreasPoses(const std::string& path) {
     }
     if (detail::isBlank(line)) return true;
     BoreasPose p = parseRow(path, n, line);
-    if (!out.empty() && p.time_s <= out.back().time_s)
+    if (!out.empty() && p.stamp_us <= out.back().stamp_us)
       throw IoError(path, n,
                     "GPSTime " + std::to_string(p.stamp_us) + " µs is not after the previous row's " +
                         std::to_string(out.back().stamp_us));

@@ -27,11 +27,12 @@ std::string stemOf(const std::string& path) {
   return dot == std::string::npos ? stem : stem.substr(0, dot);
 }
 
+// 1 to 19 digits that fit an int64 (the largest time token is 19 digits of nanoseconds).
 bool allDigits(const std::string& token) {
   if (token.empty() || token.size() > 19) return false;
   for (char c : token)
     if (c < '0' || c > '9') return false;
-  return true;
+  return token.size() < 19 || token <= "9223372036854775807";
 }
 
 // Chirp types when the flag byte alternates between 0 and 255 from row to row (the SDK has no

@@ -1,8 +1,8 @@
-// libFuzzer target: Oxford and RADIATE polar PNGs (readOxfordPolarPng, readRadiatePolarPng).
-// The first input byte chooses the reader (bit 0) and whether chunk CRCs are repaired (bit 1); the
-// rest is the file. Width and azimuth-count checks are off so the fuzzer reaches the row decoding
-// behind them. Every input is also decoded by both PNG decoders (the fast path and libpng alone):
-// a file they answer differently (other pixels, or another error) is a finding.
+// libFuzzer target: Oxford, Boreas and RADIATE polar PNGs (readOxfordPolarPng, readBoreasPolarPng,
+// readRadiatePolarPng). The first input byte chooses the reader (bit 0: RADIATE; else bit 2:
+// Boreas) and whether chunk CRCs are repaired (bit 1); the rest is the file. Width and azimuth-count checks are off so
+// the fuzzer reaches the row decoding behind them. Every input is also decoded by both PNG decoders (the fast path and
+// libpng alone): a file they answer differently (other pixels, or another error) is a finding.
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -10,6 +10,7 @@
 #include <zlib.h>
 
 #include "fuzz_support.h"
+#include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/png_image.h"
 #include "radar_ndt/io/polar_scan.h"
@@ -31,6 +32,7 @@ void checkScan(const radar_ndt::PolarScan& s) {
     if (a > 0 && s.stamp_us[a] < s.stamp_us[a - 1]) finding("azimuth timestamps go backwards");
   }
   if (!(s.range_resolution > 0.0)) finding("non-positive range resolution");
+  if (!s.chirp_up.empty() && s.chirp_up.size() != n) finding("chirp types of the wrong size");
 }
 
 /// Rewrites each chunk's CRC to match its bytes (where the chunk fits in the input), so that
@@ -66,15 +68,19 @@ std::string decoded(const std::string& path, radar_ndt::PngDecoder decoder) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
-  const bool radiate = (data[0] & 1) != 0;
-  const char* name = radiate ? "000001.png" : "1547120000000000.png";
+  const bool radiate = (data[0] & 1) != 0, boreas = !radiate && (data[0] & 4) != 0;
+  const char* name = radiate ? "000001.png" : boreas ? "1733239501983835.png" : "1547120000000000.png";
   const std::vector<std::uint8_t> fixed =
       (data[0] & 2) != 0 ? std::vector<std::uint8_t>(data + 1, data + size) : withValidCrcs(data + 1, size - 1);
   const std::string path = radar_ndt::fuzz::writeBytes(name, fixed.data(), fixed.size());
   if (decoded(path, radar_ndt::PngDecoder::Fast) != decoded(path, radar_ndt::PngDecoder::Libpng))
     radar_ndt::fuzz::finding("the PNG fast path and libpng decode the file differently");
   radar_ndt::fuzz::readOrIoError(path, [&] {
-    if (radiate) {
+    if (boreas) {
+      const radar_ndt::PolarScan s = radar_ndt::readBoreasPolarPng(path);
+      checkScan(s);
+      if (s.range_resolution != radar_ndt::kBoreasBinAfterUpgrade) radar_ndt::fuzz::finding("a 2024 scan's bin");
+    } else if (radiate) {
       radar_ndt::RadiatePolarOptions options;
       options.expected_azimuths = 0;
       checkScan(radar_ndt::readRadiatePolarPng(path, 1574859771744660, options));

@@ -1,5 +1,5 @@
-// libFuzzer target: trajectory files (readTrajectory: auto-detected, KITTI, TUM). The first input
-// byte chooses the format; the rest is the file.
+// libFuzzer target: trajectory files (readTrajectory: auto-detected, which includes Boreas pose
+// CSVs, KITTI, TUM, Boreas odometry). The first input byte chooses the format; the rest is the file.
 #include <cmath>
 #include <cstdint>
 
@@ -10,9 +10,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using radar_ndt::TrajectoryFormat;
   using radar_ndt::fuzz::finding;
   if (size < 1) return 0;
-  const TrajectoryFormat format = data[0] % 3 == 0   ? TrajectoryFormat::Auto
-                                  : data[0] % 3 == 1 ? TrajectoryFormat::Kitti
-                                                     : TrajectoryFormat::Tum;
+  const TrajectoryFormat format = data[0] % 4 == 0   ? TrajectoryFormat::Auto
+                                  : data[0] % 4 == 1 ? TrajectoryFormat::Kitti
+                                  : data[0] % 4 == 2 ? TrajectoryFormat::Tum
+                                                     : TrajectoryFormat::Boreas;
   const std::string path = radar_ndt::fuzz::writeBytes("trajectory.txt", data + 1, size - 1);
   radar_ndt::fuzz::readOrIoError(path, [&] {
     const radar_ndt::Trajectory t = radar_ndt::readTrajectory(path, format);

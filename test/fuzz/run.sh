@@ -5,7 +5,7 @@
 #
 # Builds build-fuzz (clang, -DRADAR_NDT_FUZZ=ON), builds seed corpora in build-fuzz/seeds/<target>
 # from ../shared/data (RADIATE and nuScenes files, the real Oxford scans, index and ground truth,
-# the Oxford ground-truth trajectories) and from
+# the Oxford ground-truth trajectories, the real Boreas scan and pose file) and from
 # radar_sim output (built in ./build), then runs each target for SECONDS on the grown corpus in
 # build-fuzz/corpus/<target>. A crash, leak, sanitizer report, timeout (10 s an input) or an
 # allocation over 2 GB stops the target, leaves the input in build-fuzz/artifacts/<target>/, and the
@@ -43,6 +43,15 @@ if cmake -S . -B build -G Ninja >/dev/null && cmake --build build --target radar
   cp "$sim/gt/radar_odometry.csv" "$seeds/fuzz_oxford_odometry_csv/sim.csv"
   prefixed 0 "$sim/radar.timestamps" "$seeds/fuzz_sequence_index/sim_radar.timestamps"
   prefixed 1 "$sim/gt/poses.txt" "$seeds/fuzz_trajectory/sim_poses_kitti.txt"
+  # A Boreas-layout sequence (2024-dated, chirp flags), its pose file and a leaderboard file.
+  rm -rf "$sim-boreas"
+  ./build/apps/radar_sim --layout boreas --start-stamp 1733239501983835 --chirp-flags --frames 3 --out "$sim-boreas" \
+    -q --set azimuths=32 --set bins=200
+  i=0; for f in "$sim-boreas"/radar/*.png; do prefixed 4 "$f" "$seeds/fuzz_polar_png/boreas_sim_$i.png"; i=$((i+1)); done
+  prefixed 0 "$sim-boreas/applanix/radar_poses.csv" "$seeds/fuzz_trajectory/boreas_sim_poses_auto.csv"
+  awk '{printf "%d", 1733239501983835 + NR * 250000; for (i = 1; i <= NF; ++i) printf " %s", $i; print ""}' \
+    "$sim-boreas/gt/poses.txt" > "$out/leaderboard.txt"
+  prefixed 3 "$out/leaderboard.txt" "$seeds/fuzz_trajectory/boreas_sim_odometry.txt"; rm "$out/leaderboard.txt"
 else
   echo "fuzz: radar_sim did not build: no simulator seeds" >&2
 fi
@@ -75,6 +84,12 @@ if [ -d "$data" ]; then
     prefixed 0 "$(ls "$real"/radar/*.png | head -1)" "$seeds/fuzz_polar_png/oxford_real_0.png"
     prefixed 0 "$real/radar.timestamps" "$seeds/fuzz_sequence_index/oxford_real_radar.timestamps"
     head -21 "$real/gt/radar_odometry.csv" > "$seeds/fuzz_oxford_odometry_csv/oxford_real.csv"
+  fi
+  boreas=$data/boreas-sample
+  if [ -d "$boreas" ]; then
+    prefixed 4 "$boreas/radar-2024-12-03/radar/1733239501983835.png" "$seeds/fuzz_polar_png/boreas_real_2024.png"
+    head -30 "$boreas/boreas-2021-08-05-13-34/applanix/radar_poses.csv" > "$out/poses.csv"
+    prefixed 0 "$out/poses.csv" "$seeds/fuzz_trajectory/boreas_real_poses_auto.csv"; rm "$out/poses.csv"
   fi
   head -40 "$data/kitti-metric-fixture/gt.txt" > "$out/fixture.txt"
   prefixed 1 "$out/fixture.txt" "$seeds/fuzz_trajectory/fixture_kitti.txt"; rm "$out/fixture.txt"

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "radar_ndt/frontend/chirp_correction.h"
 #include "radar_ndt/io/boreas_ground_truth.h"
 #include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/io_error.h"
@@ -376,4 +377,15 @@ TEST(BoreasSimLayout, ChirpsShiftRangesByTheRadialVelocityInOppositeDirections) 
   EXPECT_EQ(peak(2), 200);
   EXPECT_EQ(peak(3), 200);
   EXPECT_EQ(s.row(2)[200], 250);
+}
+
+// The chirp correction on the real 2024 scan: a clear fit over most neighbouring pairs, and no
+// motion, as the car stood (a moving car at 10 m/s would show |u| = β·v of about 0.5 m).
+TEST(BoreasScan, TheRealChirpScanFitsAStandingRadar) {
+  SKIP_WITHOUT(kScan2024);
+  const ChirpShiftEstimate e = estimateChirpShift(readBoreasPolarPng(kScan2024));
+  ASSERT_TRUE(e.valid);
+  EXPECT_GT(e.pairs, 250);
+  EXPECT_LT(e.u.norm(), 0.03) << e.u.transpose();
+  EXPECT_LT(e.rms, 0.1);
 }

@@ -128,22 +128,12 @@ SequenceSummary writeScanningSequence(const std::string& dir, const SimTrajector
 
 void applyChirpShift(PolarScan& scan, const SimTrajectory& ego, double t0, std::int64_t stamp0_us, double beta) {
   if (scan.chirp_up.size() != static_cast<std::size_t>(scan.azimuths) || beta == 0.0) return;
-  std::vector<std::uint8_t> row(static_cast<std::size_t>(scan.bins));
-  for (int a = 0; a < scan.azimuths; ++a) {
+  shiftRanges(scan, [&](int a) {
     const Eigen::Vector3d v = ego.velocity(t0 + 1e-6 * static_cast<double>(scan.stamp_us[a] - stamp0_us));
     // Static scenery along the beam recedes at minus the sensor's velocity along it.
     const double radial = -(v.x() * std::cos(scan.angle[a]) + v.y() * std::sin(scan.angle[a]));
-    const double shift_bins = (scan.chirp_up[a] ? 1.0 : -1.0) * beta * radial / scan.range_resolution;
-    std::uint8_t* out = scan.row(a);
-    std::copy(out, out + scan.bins, row.begin());
-    for (int b = 0; b < scan.bins; ++b) {  // what lay at bin b − shift now shows at b
-      const double src = b - shift_bins;
-      const int i = static_cast<int>(std::floor(src));
-      const double f = src - i;
-      auto at = [&](int j) { return j < 0 || j >= scan.bins ? 0.0 : static_cast<double>(row[j]); };
-      out[b] = static_cast<std::uint8_t>(std::lround((1.0 - f) * at(i) + f * at(i + 1)));
-    }
-  }
+    return (scan.chirp_up[a] ? 1.0 : -1.0) * beta * radial;
+  });
 }
 
 SequenceSummary writeBoreasSequence(const std::string& dir, const SimTrajectory& ego, const WorldOptions& world_options,

@@ -9,13 +9,13 @@
 namespace radar_ndt {
 namespace detail {
 
-PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end, std::size_t k,
-                         double voxel) {
+PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end,
+                         const ChirpCorrectionOptions& chirp, std::size_t k, double voxel) {
   PreparedScan p;
   p.index = k;
   try {
     const auto t0 = Clock::now();
-    const PolarScan scan = sequence.load(k);
+    PolarScan scan = sequence.load(k);
     // A scan without a noise floor is a dead sensor, not a view of an empty world: a real scan's
     // noise floor lights most of its bins (Oxford: over half of them; RADIATE: nearly all).
     // Counting stops once enough bins are lit: a live scan is told after a few thousand bytes.
@@ -26,6 +26,7 @@ PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold&
       throw std::runtime_error(sequence.path(k) + ": " + std::to_string(lit) + " of " +
                                std::to_string(scan.power.size()) + " bins above 0: no noise floor, a dead sensor");
     const auto t1 = Clock::now();
+    p.chirp = correctChirps(scan, chirp, front_end.options().max_range);
     p.cloud.reset(new pcl::PointCloud<PointRadar>);
     front_end.compute(scan, *p.cloud);
     if (voxel > 0) {
@@ -42,13 +43,14 @@ PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold&
   return p;
 }
 
-void forEachPreparedScan(const ScanningSequence& sequence, const PowerThresholdOptions& front_end, double voxel,
+void forEachPreparedScan(const ScanningSequence& sequence, const ScanFrontEnd& front_end, double voxel,
                          std::size_t begin, std::size_t end, int threads,
                          const std::function<void(PreparedScan&)>& consume) {
   // One front-end for every thread: its geometry cache (megabytes) is built once and shared.
-  const PowerThreshold threshold(front_end);
+  const PowerThreshold threshold(front_end.threshold);
   runOrdered<PreparedScan>(
-      begin, end, threads, [&](std::size_t k) { return prepareScan(sequence, threshold, k, voxel); }, consume);
+      begin, end, threads, [&](std::size_t k) { return prepareScan(sequence, threshold, front_end.chirp, k, voxel); },
+      consume);
 }
 
 }  // namespace detail

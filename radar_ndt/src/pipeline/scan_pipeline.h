@@ -9,11 +9,19 @@
 
 #include <pcl/point_cloud.h>
 
+#include "radar_ndt/frontend/chirp_correction.h"
 #include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/pipeline/scanning_sequence.h"
 
 namespace radar_ndt {
 namespace detail {
+
+/// What the front-end of the scanning pipeline does to each scan: its chirp shifts undone (scans with
+/// chirp types), then the threshold.
+struct ScanFrontEnd {
+  PowerThresholdOptions threshold;
+  ChirpCorrectionOptions chirp;
+};
 
 /// A decoded and thresholded scan, or why it could not be.
 struct PreparedScan {
@@ -21,15 +29,17 @@ struct PreparedScan {
   pcl::PointCloud<PointRadar>::Ptr cloud;  ///< null when the scan could not be read
   std::string problem;
   double read_ms = 0, front_end_ms = 0;
+  ChirpShiftEstimate chirp;  ///< the chirp shifts found and undone (invalid: none)
 };
 
-/// Scan k of `sequence` through `front_end`, merged into voxels of `voxel` m when > 0.
-PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end, std::size_t k,
-                         double voxel);
+/// Scan k of `sequence`, its chirp shifts undone per `chirp`, through `front_end`, merged into
+/// voxels of `voxel` m when > 0.
+PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end,
+                         const ChirpCorrectionOptions& chirp, std::size_t k, double voxel);
 
 /// Prepares scans [begin, end) of `sequence` on `threads` threads (runOrdered, ordered_pipeline.h)
 /// and calls `consume` with each, in order, one call at a time.
-void forEachPreparedScan(const ScanningSequence& sequence, const PowerThresholdOptions& front_end, double voxel,
+void forEachPreparedScan(const ScanningSequence& sequence, const ScanFrontEnd& front_end, double voxel,
                          std::size_t begin, std::size_t end, int threads,
                          const std::function<void(PreparedScan&)>& consume);
 

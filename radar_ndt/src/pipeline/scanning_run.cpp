@@ -26,6 +26,7 @@ void ScanningRunOptions::validate() const {
   matcher.validate();
   sequence.validate();
   front_end.validate();
+  chirp.validate();
   odometry.validate();
   if (!(pcl_voxel_size >= 0) || !std::isfinite(pcl_voxel_size))
     throw std::invalid_argument("ScanningRunOptions: pcl_voxel_size must be >= 0 (0: full scans)");
@@ -139,7 +140,8 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
   std::int64_t last_stamp_us = 0;  // of the last scan that was matched (or dead-reckoned)
   // Scans are prepared on the worker threads and matched here in order, one at a time.
   detail::forEachPreparedScan(
-      sequence, options.front_end, voxel, options.start, end, result.threads, [&](detail::PreparedScan& p) {
+      sequence, detail::ScanFrontEnd{options.front_end, options.chirp}, voxel, options.start, end, result.threads,
+      [&](detail::PreparedScan& p) {
         const std::size_t k = p.index;
         if (!p.cloud) {
           result.problems.push_back("scan " + std::to_string(k) + ": " + p.problem +

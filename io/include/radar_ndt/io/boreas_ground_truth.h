@@ -39,8 +39,8 @@ Eigen::Matrix3d boreasRotation(const BoreasPose& pose, bool planar);
 Eigen::Isometry3d boreasSensorPose(const BoreasPose& pose, bool planar);
 
 /// Reads a Boreas pose CSV. The header must name the 13 columns above (in that order); every row
-/// has 13 finite numbers and a GPSTime after the previous row's. Throws IoError naming the file and
-/// line otherwise.
+/// has 13 finite numbers and a GPSTime at least a microsecond after the previous row's (times are
+/// kept in µs). Throws IoError naming the file and line otherwise.
 std::vector<BoreasPose> readBoreasPoses(const std::string& path);
 
 /// Writes rows in the dataset's layout, atomically: GPSTime in nanoseconds (19 digits, as the

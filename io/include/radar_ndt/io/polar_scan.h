@@ -9,6 +9,7 @@
 // ARCHITECTURE.md (x forward, y left, z up; angle counter-clockwise from x seen from above).
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace radar_ndt {
@@ -59,5 +60,11 @@ struct PolarConvention {
   double toVehicleAngle(double sensor_azimuth) const;
   double toSensorAzimuth(double vehicle_angle) const;  ///< in [0, 2π)
 };
+
+/// Moves each row a of `scan` by `shift_m(a)` metres along range (what lay at r then lies at
+/// r + shift), resampled linearly between bins, zeros shifted in: the range shift of an FMCW chirp
+/// (the simulator's chirp model, and its correction in frontend/chirp_correction.h). Only the first
+/// `bins` bins of each row are rewritten (−1: all), for a reader that uses no more of them.
+void shiftRanges(PolarScan& scan, const std::function<double(int)>& shift_m, int bins = -1);
 
 }  // namespace radar_ndt

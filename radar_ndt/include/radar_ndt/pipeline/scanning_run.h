@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/frontend/chirp_correction.h"
 #include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/odometry/matcher.h"
@@ -26,6 +27,9 @@ struct ScanningRunOptions {
   MatcherOptions matcher = defaultMatcher();
   ScanningSequenceOptions sequence;
   PowerThresholdOptions front_end;
+  /// Scans with chirp types (Boreas from 2024): their up/down-chirp range shifts found and undone
+  /// before the threshold (frontend/chirp_correction.h).
+  ChirpCorrectionOptions chirp;
   ScanningOdometryOptions odometry;
   std::size_t start = 0;      ///< first scan used
   std::size_t max_scans = 0;  ///< 0: all

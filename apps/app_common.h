@@ -2,9 +2,11 @@
 // What every RadarNDT app shares: option parsing with Boost.Program_options that turns bad input
 // into one clear line and exit code 1. No algorithm lives here.
 
+#include <algorithm>
 #include <functional>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include <boost/program_options.hpp>
 #include <pcl/console/print.h>
@@ -13,6 +15,14 @@ namespace radar_ndt {
 namespace apps {
 
 namespace po = boost::program_options;
+
+/// The median of `v` (the mean of the middle two for an even count; 0 for none), as the apps print.
+inline double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
 
 /// Parses argv against `options`. Prints help (exit 0) for -h/--help, or one error line (exit 1)
 /// for unknown options and malformed values. Returns -1 when the app should go on.

@@ -50,12 +50,7 @@ struct Sample {
   std::size_t points;
 };
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+using apps::median;
 
 Cloud::Ptr toXYZI(const pcl::PointCloud<PointRadar>& in) {
   Cloud::Ptr out(new Cloud);

@@ -174,12 +174,6 @@ std::vector<PolarScan> readRealScans(const std::string& dir, std::string& layout
   return scans;
 }
 
-double medianOf(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
 std::vector<std::uint8_t> toPixels(const CartesianImage& image) {
   std::vector<std::uint8_t> px(image.power.size());
   for (std::size_t i = 0; i < px.size(); ++i)
@@ -422,7 +416,7 @@ int main(int argc, char** argv) {
         std::printf("| %s | %.4f | %.4f | %.2f |\n", name, a, b, a != 0 ? b / a : 0.0);
       };
       irow("pixels above the threshold", ri.fraction_above, si.fraction_above);
-      irow("front-end ms per scan", medianOf(real_ms), medianOf(simulated_ms));
+      irow("front-end ms per scan", apps::median(real_ms), apps::median(simulated_ms));
       irow("pixel power p50", ri.p50, si.p50);
       irow("pixel power p90", ri.p90, si.p90);
       irow("pixel power p99", ri.p99, si.p99);

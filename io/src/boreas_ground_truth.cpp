@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "boreas_poses_text.h"
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/io_error.h"
@@ -86,7 +87,10 @@ Eigen::Isometry3d boreasSensorPose(const BoreasPose& pose, bool planar) {
 }
 
 std::vector<BoreasPose> readBoreasPoses(const std::string& path) {
-  const std::string text = detail::readWholeFile(path);
+  return detail::parseBoreasPoses(path, detail::readWholeFile(path));
+}
+
+std::vector<BoreasPose> detail::parseBoreasPoses(const std::string& path, const std::string& text) {
   if (text.empty()) throw IoError(path, "empty file, expected a header line");
   std::vector<BoreasPose> out;
   detail::forEachLine(text, [&](std::size_t n, const std::string& line) {

@@ -4,21 +4,12 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "navtech_rows.h"
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/png_image.h"
-#include "radar_ndt/se2.h"
 
 namespace radar_ndt {
 namespace {
-
-constexpr double kTwoPi = 2.0 * kPi;
-constexpr int kMetaBytes = 11;  // int64 timestamp, uint16 encoder, uint8 flag (Oxford's layout)
-
-std::int64_t readLe64(const std::uint8_t* p) {
-  std::uint64_t v = 0;
-  for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
-  return static_cast<std::int64_t>(v);
-}
 
 std::string stemOf(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
@@ -40,22 +31,11 @@ bool allDigits(const std::string& token) {
 bool looksLikeChirpTypes(const GrayImage& img) {
   if (img.height < 2) return false;
   for (int a = 0; a < img.height; ++a) {
-    const std::uint8_t f = img.pixels[static_cast<std::size_t>(a) * img.width + 10];
+    const std::uint8_t f = detail::navtechFlag(img, a);
     if (f != 0 && f != 255) return false;
-    if (a > 0 && f == img.pixels[static_cast<std::size_t>(a - 1) * img.width + 10]) return false;
+    if (a > 0 && f == detail::navtechFlag(img, a - 1)) return false;
   }
   return true;
-}
-
-void checkWidth(const std::string& path, const GrayImage& img, const BoreasPolarOptions& options) {
-  if (img.width <= kMetaBytes)
-    throw IoError(path, "image is " + std::to_string(img.width) +
-                            " pixels wide: a Boreas radar row needs 11 metadata bytes and the range bins");
-  const int bins = img.width - kMetaBytes;
-  if (options.expected_bins > 0 && bins != options.expected_bins)
-    throw IoError(path, "image is " + std::to_string(img.width) + " pixels wide, expected " +
-                            std::to_string(options.expected_bins + kMetaBytes) + " (11 metadata bytes + " +
-                            std::to_string(options.expected_bins) + " range bins)");
 }
 
 }  // namespace
@@ -107,47 +87,26 @@ PolarScan readBoreasPolarPng(const std::string& path, const BoreasPolarOptions& 
   options.validate();
   thread_local GrayImage img;  // decoded scan after scan into the same storage
   readGrayPng(path, img);
-  checkWidth(path, img, options);
+  const int bins = detail::navtechBins(path, img, options.expected_bins, "a Boreas");
   const std::string stem = stemOf(path);
   double name_time_s = 0;
   const bool named = boreasTimeSeconds(stem, &name_time_s);
   PolarScan scan;
-  scan.azimuths = img.height;
-  scan.bins = img.width - kMetaBytes;
   // The SDK decides the bin by the file name's time (0 when the name is not a time: the older bin).
   scan.range_resolution =
       options.range_resolution > 0 ? options.range_resolution : boreasRangeResolution(named ? name_time_s : 0.0);
   scan.range_offset_bins = options.range_offset_bins;
+  const PolarConvention convention{scan.range_resolution, options.range_offset_bins, 0.0, true};
+  detail::readNavtechRows(path, img, options.encoder_size, convention, scan);
   const bool chirps =
       options.flag == BoreasFlag::ChirpType || (options.flag == BoreasFlag::Auto && looksLikeChirpTypes(img));
-  const PolarConvention convention{scan.range_resolution, options.range_offset_bins, 0.0, true};
-  const int zeroed = std::min(scan.bins, static_cast<int>(std::lround(options.zero_below / scan.range_resolution)));
-  scan.power.resize(static_cast<std::size_t>(scan.azimuths) * scan.bins);
-  scan.angle.resize(scan.azimuths);
-  scan.stamp_us.resize(scan.azimuths);
   scan.measured.assign(scan.azimuths, 1);
-  scan.encoder.resize(scan.azimuths);
   if (chirps) scan.chirp_up.resize(scan.azimuths);
-  for (int a = 0; a < scan.azimuths; ++a) {
-    const std::uint8_t* row = img.pixels.data() + static_cast<std::size_t>(a) * img.width;
-    scan.stamp_us[a] = readLe64(row);
-    scan.encoder[a] = static_cast<std::uint16_t>(row[8] | (row[9] << 8));
-    if (chirps)
-      scan.chirp_up[a] = row[10] == 255;
-    else
-      scan.measured[a] = row[10] == 255;
-    if (scan.encoder[a] >= options.encoder_size)
-      throw IoError(path, "row " + std::to_string(a) + ": encoder count " + std::to_string(scan.encoder[a]) +
-                              " outside [0, " + std::to_string(options.encoder_size) + ")");
-    if (a > 0 && scan.stamp_us[a] < scan.stamp_us[a - 1])
-      throw IoError(path, "row " + std::to_string(a) + ": azimuth timestamps out of order (" +
-                              std::to_string(scan.stamp_us[a]) + " after " + std::to_string(scan.stamp_us[a - 1]) +
-                              ")");
-    scan.angle[a] = convention.toVehicleAngle(kTwoPi * scan.encoder[a] / options.encoder_size);
-    std::uint8_t* out = scan.row(a);
-    std::memcpy(out, row + kMetaBytes, static_cast<std::size_t>(scan.bins));
-    std::memset(out, 0, static_cast<std::size_t>(zeroed));
-  }
+  for (int a = 0; a < scan.azimuths; ++a)
+    (chirps ? scan.chirp_up[a] : scan.measured[a]) = detail::navtechFlag(img, a) == 255;
+  // The SDK zeroes the bins under round(zero_below / resolution).
+  const int zeroed = std::min(bins, static_cast<int>(std::lround(options.zero_below / scan.range_resolution)));
+  for (int a = 0; a < scan.azimuths; ++a) std::memset(scan.row(a), 0, static_cast<std::size_t>(zeroed));
   std::int64_t name_us = 0;
   if (named && boreasTimeMicros(stem, &name_us))
     scan.stamp = name_us;
@@ -164,23 +123,13 @@ void writeBoreasPolarPng(const std::string& path, const PolarScan& scan, int enc
       (!scan.chirp_up.empty() && scan.chirp_up.size() != static_cast<std::size_t>(scan.azimuths)))
     throw IoError(path, "inconsistent PolarScan (sizes of power, angle, stamp_us and chirp_up do not match)");
   const PolarConvention convention{scan.range_resolution, scan.range_offset_bins, 0.0, true};
-  const int width = scan.bins + kMetaBytes;
-  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(width) * scan.azimuths);
-  for (int a = 0; a < scan.azimuths; ++a) {
-    std::uint8_t* row = pixels.data() + static_cast<std::size_t>(a) * width;
-    const auto t = static_cast<std::uint64_t>(scan.stamp_us[a]);
-    for (int i = 0; i < 8; ++i) row[i] = static_cast<std::uint8_t>(t >> (8 * i));
-    int enc = scan.encoder.size() == static_cast<std::size_t>(scan.azimuths)
-                  ? scan.encoder[a]
-                  : static_cast<int>(std::lround(convention.toSensorAzimuth(scan.angle[a]) / kTwoPi * encoder_size));
-    enc %= encoder_size;
-    row[8] = static_cast<std::uint8_t>(enc & 0xff);
-    row[9] = static_cast<std::uint8_t>((enc >> 8) & 0xff);
-    const bool flag = scan.chirp_up.empty() ? (scan.measured.empty() || scan.measured[a]) : scan.chirp_up[a] != 0;
-    row[10] = flag ? 255 : 0;
-    std::memcpy(row + kMetaBytes, scan.row(a), static_cast<std::size_t>(scan.bins));
-  }
-  writePng(path, width, scan.azimuths, 1, pixels.data(), compression_level);
+  detail::writeNavtechRows(
+      path, scan, convention, encoder_size,
+      [&](int a) -> std::uint8_t {
+        const bool set = scan.chirp_up.empty() ? (scan.measured.empty() || scan.measured[a]) : scan.chirp_up[a] != 0;
+        return set ? 255 : 0;
+      },
+      compression_level);
 }
 
 }  // namespace radar_ndt

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "boreas_poses_text.h"
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/boreas_ground_truth.h"
 #include "radar_ndt/io/io_error.h"
@@ -197,7 +198,8 @@ Trajectory readTum(const std::string& path) {
 
 Trajectory readTrajectory(const std::string& path, TrajectoryFormat format) {
   const std::string text = readWholeFile(path);
-  if (format == TrajectoryFormat::Auto && isBoreasPoseCsv(text)) return boreasRadarTrajectory(readBoreasPoses(path));
+  if (format == TrajectoryFormat::Auto && isBoreasPoseCsv(text))
+    return boreasRadarTrajectory(detail::parseBoreasPoses(path, text));
   if (format == TrajectoryFormat::Auto) {
     const std::size_t columns = firstDataColumnCount(path, text);
     if (columns == 12)

@@ -49,6 +49,19 @@ std::string errorOf(Fn&& fn) {
   return "";
 }
 
+// Four azimuths a quarter turn apart, 60 bins all at `power`, rows 62.5 ms apart from `stamp0`.
+PolarScan smallScan(std::int64_t stamp0, std::uint8_t power) {
+  PolarScan s;
+  s.azimuths = 4;
+  s.bins = 60;
+  s.power.assign(static_cast<std::size_t>(s.azimuths) * s.bins, power);
+  for (int a = 0; a < s.azimuths; ++a) {
+    s.angle.push_back(-2 * kPi * a / 4);
+    s.stamp_us.push_back(stamp0 + 62500 * a);
+  }
+  return s;
+}
+
 const char* kHeader =
     "GPSTime,easting,northing,altitude,vel_east,vel_north,vel_up,roll,pitch,heading,angvel_z,angvel_y,angvel_x\n";
 
@@ -136,17 +149,10 @@ TEST(BoreasScan, ReadsTheReal2024Scan) {
 
 TEST(BoreasScan, WriterAndReaderAgree) {
   const std::string dir = freshTempDir("boreas_scan_roundtrip");
-  PolarScan s;
-  s.azimuths = 4;
-  s.bins = 60;
+  PolarScan s = smallScan(1628184886000000, 200);
   s.range_resolution = 0.0596;
   s.range_offset_bins = 0.5;
-  s.power.assign(static_cast<std::size_t>(s.azimuths) * s.bins, 200);
-  for (int a = 0; a < s.azimuths; ++a) {
-    s.angle.push_back(-2 * kPi * a / 4);
-    s.stamp_us.push_back(1628184886000000 + 62500 * a);
-    s.chirp_up.push_back(a % 2);
-  }
+  s.chirp_up = {0, 1, 0, 1};
   const std::string path = dir + "/1628184886062500.png";  // row 1 = floor(4 / 2) − 1
   writeBoreasPolarPng(path, s);
   const PolarScan r = readBoreasPolarPng(path);
@@ -292,14 +298,7 @@ TEST(BoreasBadInput, SequencesAndScansFailClearly) {
 
 TEST(BoreasDefaults, ChirpScansGetTheirOwnThresholdOthersThePapers) {
   const std::string dir = freshTempDir("boreas_defaults");
-  PolarScan s;
-  s.azimuths = 4;
-  s.bins = 60;
-  s.power.assign(static_cast<std::size_t>(s.azimuths) * s.bins, 10);
-  for (int a = 0; a < s.azimuths; ++a) {
-    s.angle.push_back(-2 * kPi * a / 4);
-    s.stamp_us.push_back(1733239501983835 + 62500 * a);
-  }
+  PolarScan s = smallScan(1733239501983835, 10);
   fs::create_directories(dir + "/plain/radar");
   writeBoreasPolarPng(dir + "/plain/radar/1733239502046335.png", s);
   s.chirp_up = {0, 1, 0, 1};

@@ -336,13 +336,7 @@ SequenceSummary writeAutomotiveSequence(const std::string& dir, const SimTraject
   for (std::size_t c = 0; c < kMountings.size(); ++c) writer.writeRadar(c, phase_rng);
   writer.writeTables();
 
-  const double t0 = ego.stamps()[sequence.start];
-  SequenceSummary summary;
-  summary.frames = frames;
-  summary.duration = writer.duration();
-  summary.distance = ego.arcAt(t0 + summary.duration) - ego.arcAt(t0);
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
-  return summary;
+  return detail::summarize(ego, ego.stamps()[sequence.start], frames, writer.duration(), wall);
 }
 
 }  // namespace sim

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <future>
 #include <iomanip>
 #include <sstream>
@@ -68,6 +69,24 @@ struct GroundTruthWriter {
   }
 };
 
+/// Two scan buffers: scan k is encoded and written on a second thread while scan k+1 is rendered.
+class BackgroundWriter {
+ public:
+  PolarScan& buffer(std::size_t k) { return buffers_[k % 2]; }
+  /// Waits for the last write (rethrowing its failure), then starts `write(scan)`.
+  void write(const PolarScan& scan, std::function<void(const PolarScan&)> write) {
+    finish();
+    writing_ = std::async(std::launch::async, [&scan, write = std::move(write)] { write(scan); });
+  }
+  void finish() {
+    if (writing_.valid()) writing_.get();
+  }
+
+ private:
+  PolarScan buffers_[2];
+  std::future<void> writing_;
+};
+
 /// The frames to write from `sequence.start`, at least 2; the output folders created.
 std::size_t prepareScanningOutput(const std::string& dir, const SimTrajectory& ego, const SequenceOptions& sequence) {
   if (sequence.start >= ego.size()) throw std::invalid_argument("radar_sim: --start is past the trajectory's end");
@@ -94,36 +113,26 @@ SequenceSummary writeScanningSequence(const std::string& dir, const SimTrajector
   const World world = World::generate(ego, world_options);
   const double t0 = ego.stamps()[sequence.start];
   GroundTruthWriter truth;
-  // Two buffers: scan k is encoded and written on a second thread while scan k+1 is rendered.
-  PolarScan buffers[2];
-  std::future<void> writing;
+  BackgroundWriter writer;
   const OxfordPolarOptions oxford;
   for (std::size_t k = 0; k < frames; ++k) {
     const double t = ego.stamps()[sequence.start + k];
-    PolarScan& scan = buffers[k % 2];
+    PolarScan& scan = writer.buffer(k);
     renderScan(world, ego, t, world_options.seed, k, options, scan);
     const std::int64_t stamp = sequence.start_stamp_us + toMicros(t - t0);
     const std::int64_t base = toMicros(t);
     for (auto& s : scan.stamp_us) s = stamp + (s - base);
     scan.stamp = stamp;
-    if (writing.valid()) writing.get();  // rethrows a failed write
-    writing = std::async(
-        std::launch::async,
-        [&scan, &oxford, &sequence, path = (fs::path(dir) / "radar" / (std::to_string(stamp) + ".png")).string()] {
-          writeOxfordPolarPng(path, scan, oxford, sequence.png_compression);
-        });
+    writer.write(scan,
+                 [&oxford, &sequence, path = (fs::path(dir) / "radar" / (std::to_string(stamp) + ".png")).string()](
+                     const PolarScan& s) { writeOxfordPolarPng(path, s, oxford, sequence.png_compression); });
     truth.add(k, stamp, ego.at(t), options.sweep_period);
     detail::progressLine(sequence.progress, "radar_sim: scan", k, frames);
   }
-  if (writing.valid()) writing.get();
+  writer.finish();
   truth.write(dir);
 
-  SequenceSummary summary;
-  summary.frames = frames;
-  summary.duration = ego.stamps()[sequence.start + frames - 1] - t0;
-  summary.distance = ego.arcAt(t0 + summary.duration) - ego.arcAt(t0);
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
-  return summary;
+  return detail::summarize(ego, t0, frames, ego.stamps()[sequence.start + frames - 1] - t0, wall);
 }
 
 void applyChirpShift(PolarScan& scan, const SimTrajectory& ego, double t0, std::int64_t stamp0_us, double beta) {
@@ -152,13 +161,12 @@ SequenceSummary writeBoreasSequence(const std::string& dir, const SimTrajectory&
   // The dataset names a scan by row floor(M / 2) − 1: the sweep starts that many azimuths earlier.
   const int middle = std::max(0, options.azimuths / 2 - 1);
   const double lead = middle * options.sweep_period / options.azimuths;
-  GroundTruthWriter truth;  // gt/poses.txt (the Oxford files it also writes are removed below)
+  GroundTruthWriter truth;  // for gt/poses.txt only: Boreas has no Oxford index or CSV
   std::vector<BoreasPose> poses;
-  PolarScan buffers[2];
-  std::future<void> writing;
+  BackgroundWriter writer;
   for (std::size_t k = 0; k < frames; ++k) {
     const double t = ego.stamps()[sequence.start + k];
-    PolarScan& scan = buffers[k % 2];
+    PolarScan& scan = writer.buffer(k);
     renderScan(world, ego, t - lead, world_options.seed, k, options, scan);
     const std::int64_t base = toMicros(t - lead), start = sequence.start_stamp_us + toMicros(t - lead - t0);
     for (auto& s : scan.stamp_us) s = start + (s - base);
@@ -168,13 +176,10 @@ SequenceSummary writeBoreasSequence(const std::string& dir, const SimTrajectory&
       for (int a = 0; a < scan.azimuths; ++a) scan.chirp_up.push_back(a % 2 == 0 ? 0 : 1);
       applyChirpShift(scan, ego, t0, sequence.start_stamp_us, layout.chirp_beta);
     }
-    if (writing.valid()) writing.get();  // rethrows a failed write
-    writing =
-        std::async(std::launch::async,
-                   [&scan, &sequence, path = (fs::path(dir) / "radar" / (std::to_string(scan.stamp) + ".png")).string(),
-                    encoder_size = options.encoder_size] {
-                     writeBoreasPolarPng(path, scan, encoder_size, sequence.png_compression);
-                   });
+    writer.write(scan, [&sequence, path = (fs::path(dir) / "radar" / (std::to_string(scan.stamp) + ".png")).string(),
+                        encoder_size = options.encoder_size](const PolarScan& s) {
+      writeBoreasPolarPng(path, s, encoder_size, sequence.png_compression);
+    });
     const Pose2 pose = ego.at(t);
     const Eigen::Vector3d v = ego.velocity(t);
     truth.add(k, scan.stamp, pose, options.sweep_period);
@@ -182,16 +187,11 @@ SequenceSummary writeBoreasSequence(const std::string& dir, const SimTrajectory&
                                          pose.y() + layout.enu_north, pose.z(), v.x(), v.y(), v.z()));
     detail::progressLine(sequence.progress, "radar_sim: scan", k, frames);
   }
-  if (writing.valid()) writing.get();
+  writer.finish();
   writeBoreasPoses((fs::path(dir) / "applanix" / "radar_poses.csv").string(), poses);
   writeFileAtomically((fs::path(dir) / "gt" / "poses.txt").string(), truth.poses.str());
 
-  SequenceSummary summary;
-  summary.frames = frames;
-  summary.duration = ego.stamps()[sequence.start + frames - 1] - t0;
-  summary.distance = ego.arcAt(t0 + summary.duration) - ego.arcAt(t0);
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
-  return summary;
+  return detail::summarize(ego, t0, frames, ego.stamps()[sequence.start + frames - 1] - t0, wall);
 }
 
 }  // namespace sim

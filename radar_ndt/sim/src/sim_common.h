@@ -1,11 +1,13 @@
 #pragma once
 // Internal to the simulator: small helpers its renderers and writers share.
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <string>
 
 #include "radar_ndt/se2.h"
+#include "radar_ndt/sim/radar_sim.h"
 #include "sim_random.h"
 
 namespace radar_ndt {
@@ -36,6 +38,18 @@ inline void progressLine(bool on, const char* what, std::size_t k, std::size_t n
   if (!on) return;
   if (k + 1 == n || k % 10 == 0) std::fprintf(stderr, "\r%s %zu/%zu", what, k + 1, n);
   if (k + 1 == n) std::fprintf(stderr, "\n");
+}
+
+/// What a writer reports: `frames` over `duration` s of `ego` from t0, and the wall time since
+/// `wall`.
+inline SequenceSummary summarize(const SimTrajectory& ego, double t0, std::size_t frames, double duration,
+                                 std::chrono::steady_clock::time_point wall) {
+  SequenceSummary summary;
+  summary.frames = frames;
+  summary.duration = duration;
+  summary.distance = ego.arcAt(t0 + duration) - ego.arcAt(t0);
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
+  return summary;
 }
 
 }  // namespace detail

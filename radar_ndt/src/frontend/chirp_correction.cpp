@@ -25,18 +25,28 @@ struct PairShift {
 // The shift (bins, sub-bin) of row b's content relative to row a's, from the strongest bins of a
 // correlated against b, or false without a clear peak. `b_centred` is row b over the whole band
 // with its mean removed, padded by `max_lag` zeros on both sides (no bounds checks in the loop).
+// Storage one scan's pairs reuse (the estimate runs on every scan with chirp types).
+struct PairScratch {
+  std::vector<std::uint8_t> sorted;
+  std::vector<int> bins;  // offsets into b_centred at lag −max_lag
+  std::vector<float> weights;
+  std::vector<float> c;
+};
+
 bool relativeShift(const std::uint8_t* ra, const std::vector<float>& b_centred, int lo, int hi, int max_lag,
-                   double top_share, double min_peak, std::vector<std::uint8_t>& scratch, double* lag) {
+                   double top_share, double min_peak, PairScratch& scratch, double* lag) {
   double mean_a = 0;
   for (int i = lo; i < hi; ++i) mean_a += ra[i];
   mean_a /= hi - lo;
-  scratch.assign(ra + lo, ra + hi);
-  const std::size_t keep = std::max<std::size_t>(8, static_cast<std::size_t>(top_share * scratch.size()));
-  std::nth_element(scratch.begin(), scratch.end() - static_cast<std::ptrdiff_t>(keep), scratch.end());
-  const double level =
-      std::max(static_cast<double>(*(scratch.end() - static_cast<std::ptrdiff_t>(keep))), mean_a + 1.0);
-  std::vector<int> bins;  // offsets into b_centred at lag −max_lag
-  std::vector<float> weights;
+  std::vector<std::uint8_t>& sorted = scratch.sorted;
+  sorted.assign(ra + lo, ra + hi);
+  const std::size_t keep = std::max<std::size_t>(8, static_cast<std::size_t>(top_share * sorted.size()));
+  std::nth_element(sorted.begin(), sorted.end() - static_cast<std::ptrdiff_t>(keep), sorted.end());
+  const double level = std::max(static_cast<double>(*(sorted.end() - static_cast<std::ptrdiff_t>(keep))), mean_a + 1.0);
+  std::vector<int>& bins = scratch.bins;
+  std::vector<float>& weights = scratch.weights;
+  bins.clear();
+  weights.clear();
   double norm_a = 0;
   for (int i = lo; i < hi; ++i)
     if (ra[i] >= level) {
@@ -46,7 +56,8 @@ bool relativeShift(const std::uint8_t* ra, const std::vector<float>& b_centred, 
     }
   if (bins.size() < 8) return false;
   const int lags = 2 * max_lag + 1;
-  std::vector<float> c(static_cast<std::size_t>(lags), 0.0f);
+  std::vector<float>& c = scratch.c;
+  c.assign(static_cast<std::size_t>(lags), 0.0f);
   for (std::size_t j = 0; j < bins.size(); ++j) {
     const float w = weights[j];
     const float* row = b_centred.data() + bins[j];  // b_centred[bins[j] + max_lag + k] is lag k
@@ -105,7 +116,7 @@ ChirpShiftEstimate estimateChirpShift(const PolarScan& scan, const ChirpCorrecti
   if (hi - lo < 4 * max_lag) return out;
   std::vector<PairShift> pairs;
   std::vector<float> b_centred(static_cast<std::size_t>(hi - lo + 2 * max_lag));
-  std::vector<std::uint8_t> scratch;
+  PairScratch scratch;
   // Every neighbouring pair: (0, 1) is down then up, (1, 2) up then down, so the change of a
   // structure's range with the bearing between two azimuths, the same in both, cancels in the fit.
   for (int a = 0; a + 1 < scan.azimuths; ++a) {

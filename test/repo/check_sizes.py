@@ -17,7 +17,7 @@ import sys
 MAX_FUNCTION = 60
 MAX_FILE = 500
 FUNCTION_DIRS = ("registration", "io", "radar_ndt")
-SOURCE_DIRS = ("apps", "io", "radar_ndt", "registration", "test")
+SOURCE_DIRS = ("apps", "io", "python", "radar_ndt", "registration", "test")
 EXCEPTION = "Kept as one function:"
 
 

@@ -4,7 +4,8 @@ stubgen (Debian's mypy; offline), and makes what it read from pybind11 valid for
 numpy.ndarray[numpy.float64[3,3]] becomes numpy.ndarray, and a return annotation that is not a type
 (stubgen reads a property's docstring as one) becomes Any.
 
-Usage: make_stubs.py PACKAGE_PARENT   (the folder holding radar_ndt/, e.g. build/python)
+Usage: make_stubs.py PACKAGE_PARENT [STUBGEN]   (the folder holding radar_ndt/, e.g. build/python;
+the stubgen program, default the one on PATH)
 """
 
 import ast
@@ -55,7 +56,8 @@ def main():
     parent = pathlib.Path(sys.argv[1]).resolve()
     env = dict(os.environ, PYTHONPATH=str(parent))
     with tempfile.TemporaryDirectory() as tmp:
-        subprocess.run(["stubgen", "-p", "radar_ndt._radar_ndt", "-o", tmp], check=True, env=env,
+        stubgen = sys.argv[2] if len(sys.argv) > 2 else "stubgen"
+        subprocess.run([stubgen, "-p", "radar_ndt._radar_ndt", "-o", tmp], check=True, env=env,
                        stdout=subprocess.DEVNULL)
         stub = (pathlib.Path(tmp) / "radar_ndt" / "_radar_ndt.pyi").read_text()
     (parent / "radar_ndt" / "_radar_ndt.pyi").write_text(valid_returns(plain_arrays(stub)))

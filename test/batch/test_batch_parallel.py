@@ -1,0 +1,131 @@
+"""radar_batch with GNU parallel on the real data: the five nuScenes scenes x two methods and the
+real Oxford scans; summary.csv equals each task run alone; report is byte-stable; a second run
+skips finished tasks, a lost result reruns alone, a failing task keeps its log and stops nothing;
+a killed run leaves no partial result."""
+
+import os
+import shutil
+import signal
+import subprocess
+import time
+
+import pytest
+
+from conftest import BATCH, METRICS, NUSCENES, ODOMETRY, OXFORD, alone_figures, fmt, need, read_csv, sh, tasks_of
+
+
+@pytest.fixture(scope="module")
+def nuscenes_run(tmp_path_factory):
+    need(NUSCENES)
+    if shutil.which("parallel") is None:
+        pytest.skip("GNU parallel is not installed (bash .ci/deps --test installs it)")
+    run = tmp_path_factory.mktemp("batch") / "nuscenes run"  # a space: paths are quoted
+    sh(BATCH, "plan", "--format", "nuscenes", "--root", NUSCENES, "--method", "pw-ndt,doppler", "--out", run)
+    out = sh(BATCH, "run", run, "--engine", "parallel", "-j", "2").stdout
+    assert "10 to run with parallel" in out and "10 complete, 0 failed" in out
+    sh(BATCH, "report", run)
+    return run
+
+
+def test_every_scene_and_method_is_reported_with_the_figures_of_running_it_alone(nuscenes_run, tmp_path):
+    rows = read_csv(nuscenes_run / "summary.csv")
+    assert len(rows) == 10 and all(r["status"] == "complete" for r in rows)
+    assert sorted({r["sequence"] for r in rows}) == ["scene-0061", "scene-0103", "scene-0655", "scene-0796",
+                                                     "scene-1077"]
+    commands = tasks_of(nuscenes_run)
+    for r in rows:
+        alone = alone_figures(commands[r["id"]], tmp_path)
+        for m in METRICS:
+            assert r[m] == fmt(alone[m]), (r["sequence"], r["method"], m)
+    md = (nuscenes_run / "summary.md").read_text()
+    assert "| pw-ndt | default | 5/5 |" in md and "lowest mean 1m_pct" in md
+    assert (nuscenes_run / "summary.svg").read_text().startswith("<svg")
+
+
+def test_report_writes_the_same_bytes_again(nuscenes_run):
+    before = {f: (nuscenes_run / f).read_bytes() for f in ("summary.csv", "summary.md", "summary.svg")}
+    sh(BATCH, "report", nuscenes_run)
+    assert before == {f: (nuscenes_run / f).read_bytes() for f in before}
+
+
+def test_a_second_run_skips_finished_tasks_and_reruns_only_a_lost_one(nuscenes_run):
+    results = sorted((nuscenes_run / "tasks").glob("*/result.json"))
+    stamps = {p: p.stat().st_mtime_ns for p in results}
+    out = sh(BATCH, "run", nuscenes_run).stdout
+    assert "10 complete (skipped), 0 to run" in out
+    assert stamps == {p: p.stat().st_mtime_ns for p in results}
+    lost = results[3]
+    lost.unlink()  # a lost node: the task never finished
+    out = sh(BATCH, "run", nuscenes_run, "--engine", "parallel").stdout
+    assert "9 complete (skipped), 1 to run" in out
+    assert lost.exists()
+    assert all(p.stat().st_mtime_ns == stamps[p] for p in results if p != lost)
+
+
+def test_the_real_oxford_scans_and_a_failing_setting(tmp_path):
+    need(OXFORD)
+    run = tmp_path / "oxford"
+    # threshold 0.99 keeps no point: radar_odometry says the run was mostly unmatched and exits 1.
+    sh(BATCH, "plan", "--format", "oxford", "--root", OXFORD, "--method", "pw-ndt,pcl-ndt", "--set",
+       "threshold=0.333,0.99", "--out", run)
+    done = sh(BATCH, "run", run, "--engine", "parallel", check=False)
+    assert done.returncode == 1 and "2 complete, 2 failed" in done.stdout
+    sh(BATCH, "report", run)
+    rows = read_csv(run / "summary.csv")
+    commands = tasks_of(run)
+    for r in rows:
+        if r["settings"] == "threshold=0.333":
+            assert r["status"] == "complete"
+            alone = alone_figures(commands[r["id"]], tmp_path)
+            assert all(r[m] == fmt(alone[m]) for m in METRICS)
+        else:
+            assert r["status"] == "failed" and r["exit_code"] == "1"
+            assert "mostly" in (run / r["log"]).read_text()
+    md = (run / "summary.md").read_text()
+    assert "## Failed tasks" in md and "threshold=0.99" in md
+    assert sh(BATCH, "run", run, check=False).stdout.startswith("4 tasks: 2 complete (skipped), 2 to run")
+
+
+def test_a_killed_run_resumes_without_partial_results(tmp_path):
+    need(NUSCENES)
+    if shutil.which("parallel") is None:
+        pytest.skip("GNU parallel is not installed")
+    run = tmp_path / "killed"
+    sh(BATCH, "plan", "--format", "nuscenes", "--root", NUSCENES, "--method", "pw-ndt,pcl-icp", "--out", run)
+    p = subprocess.Popen([str(BATCH), "run", str(run), "-j", "1"], stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL, start_new_session=True)
+    deadline = time.time() + 120
+    while time.time() < deadline and len(list((run / "tasks").glob("*/result.json"))) < 2:
+        time.sleep(0.05)
+    kill_session(p.pid)  # the whole run: radar_batch, parallel, the tasks running (their own groups)
+    p.wait()
+    finished = {r.parent.name: r.stat().st_mtime_ns for r in (run / "tasks").glob("*/result.json")}
+    assert 2 <= len(finished) < 10
+    time.sleep(0.5)
+    assert finished == {r.parent.name: r.stat().st_mtime_ns for r in (run / "tasks").glob("*/result.json")}
+    out = sh(BATCH, "run", run, "-j", "2").stdout
+    assert f"{len(finished)} complete (skipped), {10 - len(finished)} to run" in out
+    assert all((run / "tasks" / i / "result.json").stat().st_mtime_ns == t for i, t in finished.items())
+    sh(BATCH, "report", run)
+    assert all(r["status"] == "complete" for r in read_csv(run / "summary.csv"))
+
+
+def kill_session(sid):
+    """SIGKILL to every process of session `sid` (GNU parallel puts each job in a group of its own)."""
+    for stat in __import__("pathlib").Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+            if int(fields[3]) == sid:
+                os.kill(int(stat.parent.name), signal.SIGKILL)
+        except (OSError, ValueError, IndexError):
+            pass
+
+
+def test_plans_refuse_bad_settings_and_name_what_is_wrong(tmp_path):
+    need(NUSCENES)
+    for args, message in [(["--set", "gird=3"], "gird"), (["--set", "grid=-1"], "grid"),
+                          (["--method", "gicp"], "gicp"), (["--sequences", "scene-9999"], "scene-9999")]:
+        done = sh(BATCH, "plan", "--format", "nuscenes", "--root", NUSCENES, "--out", tmp_path / "bad", *args,
+                  check=False)
+        assert done.returncode == 1 and message in done.stderr, done.stderr
+    assert ODOMETRY.exists()

@@ -1,0 +1,198 @@
+// radar_batch's plan, resume decisions and aggregation (apps/batch/): the expansion's counts and
+// stable ids, shell quoting of paths with spaces, which tasks a second run runs, and the report's
+// means and medians against hand-computed ones.
+
+#include <cstdio>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "batch/batch_plan.h"
+#include "batch/batch_report.h"
+#include "batch/batch_run.h"
+#include "radar_ndt/io/atomic_file.h"
+#include "radar_ndt/io/io_error.h"
+#include "test_support.h"
+
+using namespace radar_ndt::batch;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path scratch(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("radar_ndt_batch_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+/// Three scanning sequence folders (one with a space in its name, one with ground truth).
+PlanRequest request(const fs::path& root, const fs::path& run) {
+  for (const char* s : {"drive a", "drive_b", "drive_c"}) {
+    fs::create_directories(root / s / "radar");
+    radar_ndt::writeFileAtomically((root / s / "radar.timestamps").string(), "1 1\n");
+  }
+  fs::create_directories(root / "drive_b" / "gt");
+  radar_ndt::writeFileAtomically((root / "drive_b" / "gt" / "radar_odometry.csv").string(), "x\n");
+  fs::create_directories(root / "not a sequence");
+  PlanRequest r;
+  r.format = "oxford";
+  r.root = root.string();
+  r.methods = {"pw-ndt", "pcl-ndt"};
+  r.settings = {parseSettingAxis("grid=3,3.75"), parseSettingAxis("--power-shift=0,0.333,0.5")};
+  r.odometry_app = "/opt/radar ndt/bin/radar_odometry";
+  r.run_dir = run.string();
+  return r;
+}
+
+}  // namespace
+
+TEST(BatchPlan, ExpandsEverySequenceMethodAndSettingWithStableIds) {
+  const fs::path dir = scratch("plan");
+  const PlanRequest r = request(dir / "data", dir / "run");
+  const auto sequences = findSequences("oxford", r.root);
+  ASSERT_EQ(sequences.size(), 3u);  // "not a sequence" has no radar.timestamps
+  EXPECT_EQ(sequences[0].name, "drive a");
+  const auto tasks = expandPlan(r, sequences);
+  ASSERT_EQ(tasks.size(), 3u * 2u * 6u);
+  // Nesting: sequence, method, then the settings grid with the last axis fastest.
+  EXPECT_EQ(tasks[0].settingsText(), "grid=3 power-shift=0");
+  EXPECT_EQ(tasks[1].settingsText(), "grid=3 power-shift=0.333");
+  EXPECT_EQ(tasks[3].settingsText(), "grid=3.75 power-shift=0");
+  EXPECT_EQ(tasks[6].method, "pcl-ndt");
+  EXPECT_EQ(tasks[12].sequence, "drive_b");
+  // The id depends on sequence, method and settings only: not on the order, the paths or the run.
+  PlanRequest other = r;
+  other.methods = {"pcl-ndt"};
+  other.run_dir = (dir / "elsewhere").string();
+  other.odometry_app = "/usr/bin/radar_odometry";
+  const auto again = expandPlan(other, {sequences[1]});
+  EXPECT_EQ(again[0].id, taskId("drive_b", "pcl-ndt", {{"grid", "3"}, {"power-shift", "0"}}));
+  EXPECT_EQ(again[0].id, tasks[18].id);
+  std::set<std::string> ids;
+  for (const auto& t : tasks) ids.insert(t.id);
+  EXPECT_EQ(ids.size(), tasks.size());
+  EXPECT_EQ(tasks[0].id.size(), 16u);
+  // Only the sequence with ground truth is evaluated.
+  const auto& with_gt = tasks[12].command;
+  EXPECT_NE(std::find(with_gt.begin(), with_gt.end(), "--eval"), with_gt.end());
+  EXPECT_EQ(std::find(tasks[0].command.begin(), tasks[0].command.end(), "--eval"), tasks[0].command.end());
+  EXPECT_EQ(tasks[0].command.back(), (fs::path(r.run_dir) / "tasks" / tasks[0].id / "trajectory.txt").string());
+  // Selection by name and by pattern.
+  EXPECT_EQ(findSequences("oxford", r.root, {"drive_c"}).size(), 1u);
+  EXPECT_EQ(findSequences("oxford", r.root, {}, "drive_*").size(), 2u);
+  EXPECT_THROW(findSequences("oxford", r.root, {"drive_x"}), std::invalid_argument);
+  EXPECT_THROW(parseSettingAxis("grid"), std::invalid_argument);
+  EXPECT_THROW(parseSettingAxis("grid=3,"), std::invalid_argument);
+  EXPECT_THROW(parseSettingAxis("grid=3, 4"), std::invalid_argument);
+  fs::remove_all(dir);
+}
+
+TEST(BatchPlan, QuotesPathsWithSpacesAsAShellSplitsThem) {
+  const std::vector<std::string> words{
+      "/opt/radar ndt/radar_odometry", "--sequence", "/data/it's here", "plain", "a\"b", "$HOME", ""};
+  const std::string line = joinShellWords(words);
+  EXPECT_EQ(splitShellWords(line), words);
+  EXPECT_EQ(shellQuote("plain"), "plain");
+  EXPECT_EQ(shellQuote("it's"), "'it'\\''s'");
+  // What /bin/sh makes of the line: the same words.
+  const std::string cmd = "for w in " + line + "; do printf '[%s]' \"$w\"; done";
+  FILE* p = popen(("/bin/sh -c " + shellQuote(cmd)).c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  char buf[512] = {};
+  const std::size_t n = std::fread(buf, 1, sizeof buf - 1, p);
+  pclose(p);
+  std::string expected;
+  for (const auto& w : words) expected += "[" + w + "]";
+  EXPECT_EQ(std::string(buf, n), expected);
+  EXPECT_THROW(splitShellWords("a 'b"), std::invalid_argument);
+}
+
+TEST(BatchPlan, AWrittenPlanReadsBackTheSame) {
+  const fs::path dir = scratch("roundtrip");
+  Plan p;
+  p.request = request(dir / "data", dir / "run");
+  p.sequences = findSequences("oxford", p.request.root);
+  p.tasks = expandPlan(p.request, p.sequences);
+  p.version = "0.2.0";
+  p.git_revision = "abc";
+  writePlan(p);
+  const Plan back = readPlan(p.request.run_dir);
+  ASSERT_EQ(back.tasks.size(), p.tasks.size());
+  for (std::size_t i = 0; i < p.tasks.size(); ++i) {
+    EXPECT_EQ(back.tasks[i].id, p.tasks[i].id);
+    EXPECT_EQ(back.tasks[i].command, p.tasks[i].command);
+    EXPECT_EQ(back.tasks[i].settings, p.tasks[i].settings);
+  }
+  EXPECT_EQ(back.request.settings.size(), 2u);
+  EXPECT_EQ(back.sequences[0].path, p.sequences[0].path);
+  EXPECT_THROW(readPlan((dir / "nothing").string()), radar_ndt::IoError);
+  fs::remove_all(dir);
+}
+
+TEST(BatchRun, ResumesOnlyWhatHasNoCompleteResultForTheSameCommand) {
+  const fs::path dir = scratch("resume");
+  Task t{"0123456789abcdef", "s", "pw-ndt", {}, {"/bin/true", "--x"}};
+  const std::string run = dir.string();
+  EXPECT_EQ(taskState(run, t), TaskState::Missing);
+  auto write = [&](const nlohmann::json& j) {
+    fs::create_directories(taskDir(run, t.id));
+    radar_ndt::writeFileAtomically((fs::path(taskDir(run, t.id)) / "result.json").string(), j.dump());
+  };
+  const nlohmann::json summary = {{"scans", 3}};
+  write({{"command", joinShellWords(t.command)}, {"exit_code", 0}, {"summary", summary}});
+  EXPECT_EQ(taskState(run, t), TaskState::Complete);
+  write({{"command", joinShellWords(t.command)}, {"exit_code", 1}, {"summary", nullptr}});
+  EXPECT_EQ(taskState(run, t), TaskState::Failed);
+  write({{"command", "/bin/true --y"}, {"exit_code", 0}, {"summary", summary}});
+  EXPECT_EQ(taskState(run, t), TaskState::Stale);
+  radar_ndt::writeFileAtomically((fs::path(taskDir(run, t.id)) / "result.json").string(), "{\"command\": ");
+  EXPECT_EQ(taskState(run, t), TaskState::Missing);
+  // A task that runs: its exit code and no summary (true prints nothing) make it failed, with a log.
+  EXPECT_EQ(executeTask(run, t, 1), 125);
+  EXPECT_EQ(taskState(run, t), TaskState::Failed);
+  EXPECT_TRUE(fs::exists(fs::path(taskDir(run, t.id)) / "log.txt"));
+  Task missing{"fedcba9876543210", "s", "pw-ndt", {}, {"/no/such/app"}};
+  EXPECT_EQ(executeTask(run, missing, 1), 127);
+  EXPECT_EQ(taskState(run, missing), TaskState::Failed);
+  fs::remove_all(dir);
+}
+
+TEST(BatchReport, MeansAndMediansOverSequencesAsComputedByHand) {
+  auto row = [](const std::string& seq, const std::string& method, double kitti, double ate, TaskState state) {
+    TaskRow r;
+    r.task = Task{taskId(seq, method, {}), seq, method, {}, {}};
+    r.state = state;
+    r.kitti_pct = kitti;
+    r.ate_m = ate;
+    return r;
+  };
+  const std::vector<TaskRow> rows{
+      row("a", "pw-ndt", 1.0, 0.5, TaskState::Complete), row("a", "pcl-ndt", 2.0, 0.25, TaskState::Complete),
+      row("b", "pw-ndt", 4.0, 1.5, TaskState::Complete), row("b", "pcl-ndt", kNone, kNone, TaskState::Failed),
+      row("c", "pw-ndt", 0.5, 2.0, TaskState::Complete), row("c", "pcl-ndt", 3.0, 0.75, TaskState::Complete)};
+  const auto groups = summarize(rows);
+  ASSERT_EQ(groups.size(), 2u);
+  const auto& cols = metricColumns();
+  const auto col = [&](const std::string& name) {
+    for (std::size_t c = 0; c < cols.size(); ++c)
+      if (cols[c].name == name) return c;
+    return cols.size();
+  };
+  EXPECT_EQ(groups[0].method, "pw-ndt");
+  EXPECT_EQ(groups[0].complete, 3u);
+  EXPECT_DOUBLE_EQ(groups[0].mean[col("kitti_pct")], (1.0 + 4.0 + 0.5) / 3);
+  EXPECT_DOUBLE_EQ(groups[0].median[col("kitti_pct")], 1.0);
+  EXPECT_DOUBLE_EQ(groups[0].mean[col("ate_m")], (0.5 + 1.5 + 2.0) / 3);
+  EXPECT_EQ(groups[1].complete, 2u);  // the failed task counts in no mean
+  EXPECT_DOUBLE_EQ(groups[1].mean[col("kitti_pct")], 2.5);
+  EXPECT_DOUBLE_EQ(groups[1].median[col("ate_m")], 0.5);
+  EXPECT_TRUE(std::isnan(groups[1].mean[col("frame_m")]));
+  EXPECT_EQ(primaryMetric(rows), static_cast<int>(col("kitti_pct")));
+  const std::string csv = summaryCsv(rows);
+  EXPECT_NE(csv.find(rows[3].task.id + ",b,pcl-ndt,default,failed,"), std::string::npos);
+  EXPECT_EQ(formatNumber(1.0 / 3), "0.333333333");
+  EXPECT_EQ(formatNumber(kNone), "");
+  EXPECT_EQ(summarySvg(rows), summarySvg(rows));
+}

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Writes the type stubs of the compiled module (radar_ndt/_radar_ndt.pyi) beside it, with mypy's
 stubgen (Debian's mypy; offline), and makes what it read from pybind11 valid for type checkers:
-numpy.ndarray[numpy.float64[3,3]] becomes numpy.ndarray, and a return annotation that is not a type
-(stubgen reads a property's docstring as one) becomes Any.
+numpy.ndarray[numpy.float64[3,3]] becomes numpy.ndarray, a return annotation that is not a type
+(stubgen reads a property's docstring as one) becomes Any, and a path takes str as well.
 
 Usage: make_stubs.py PACKAGE_PARENT [STUBGEN]   (the folder holding radar_ndt/, e.g. build/python;
 the stubgen program, default the one on PATH)
@@ -49,7 +49,9 @@ def valid_returns(text):
         return m.group(0) if names and set(names) <= known else "-> Any: ..."
 
     text = re.sub(r"-> (.+): \.\.\.$", fix, text, flags=re.M)
-    return text if "import Any" in text else "from typing import Any\n" + text
+    # pybind11's path caster takes str and os.PathLike; stubgen writes only the latter.
+    text = text.replace(": os.PathLike", ": Union[str, os.PathLike]")
+    return "from typing import Any, Union\n" + text
 
 
 def main():

@@ -5,6 +5,7 @@
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>  // paths as str or os.PathLike
 
 #include "bindings.h"
 #include "keywords.h"
@@ -104,7 +105,8 @@ void bindPolarScan(py::module_& m) {
 
   m.def(
       "read_oxford_scan",
-      [](const std::string& path, const py::kwargs& kw) {
+      [](const std::filesystem::path& path_arg, const py::kwargs& kw) {
+        const std::string path = path_arg.string();
         const auto o = withKeywords(OxfordPolarOptions{}, kw, "read_oxford_scan");
         return readScan([&] { return readOxfordPolarPng(path, o); });
       },
@@ -113,7 +115,8 @@ void bindPolarScan(py::module_& m) {
       "Keywords: OxfordPolarOptions (convention, encoder_size, expected_bins).");
   m.def(
       "read_radiate_scan",
-      [](const std::string& path, std::int64_t frame_time_us, const py::kwargs& kw) {
+      [](const std::filesystem::path& path_arg, std::int64_t frame_time_us, const py::kwargs& kw) {
+        const std::string path = path_arg.string();
         const auto o = withKeywords(RadiatePolarOptions{}, kw, "read_radiate_scan");
         return readScan([&] { return readRadiatePolarPng(path, frame_time_us, o); });
       },
@@ -122,7 +125,8 @@ void bindPolarScan(py::module_& m) {
       "Keywords: RadiatePolarOptions.");
   m.def(
       "read_boreas_scan",
-      [](const std::string& path, const py::kwargs& kw) {
+      [](const std::filesystem::path& path_arg, const py::kwargs& kw) {
+        const std::string path = path_arg.string();
         const auto o = withKeywords(BoreasPolarOptions{}, kw, "read_boreas_scan");
         o.validate();
         return readScan([&] { return readBoreasPolarPng(path, o); });
@@ -167,7 +171,8 @@ void bindTrajectory(py::module_& m) {
       });
   m.def(
       "read_trajectory",
-      [](const std::string& path, const std::string& format) {
+      [](const std::filesystem::path& path_arg, const std::string& format) {
+        const std::string path = path_arg.string();
         const TrajectoryFormat f = parseTrajectoryFormat(format);
         py::gil_scoped_release release;
         return readTrajectory(path, f);
@@ -176,7 +181,8 @@ void bindTrajectory(py::module_& m) {
       "A KITTI, TUM or Boreas-leaderboard file, or a Boreas pose CSV (format auto, kitti, tum or boreas).");
   m.def(
       "write_trajectory",
-      [](const std::string& path, const Trajectory& t, const std::string& format) {
+      [](const std::filesystem::path& path_arg, const Trajectory& t, const std::string& format) {
+        const std::string path = path_arg.string();
         const TrajectoryFormat f = parseTrajectoryFormat(format);
         py::gil_scoped_release release;
         writeTrajectory(path, t, f);
@@ -190,7 +196,8 @@ void bindScanningSequence(py::module_& m) {
                                "A scanning-radar sequence directory (radar_ndt/pipeline/scanning_sequence.h).\n\n"
                                "ScanningSequence(path, format='oxford', **ScanningSequenceOptions): oxford, radiate or "
                                "boreas.")
-      .def(py::init([](const std::string& dir, const std::string& format, const py::kwargs& kw) {
+      .def(py::init([](const std::filesystem::path& dir_arg, const std::string& format, const py::kwargs& kw) {
+             const std::string dir = dir_arg.string();
              const auto o = withKeywords(ScanningSequenceOptions{}, kw, "ScanningSequence");
              const ScanFormat f = parseScanFormat(format);
              py::gil_scoped_release release;
@@ -250,7 +257,8 @@ void bindNuScenes(py::module_& m) {
   py::class_<NuScenesDataset, std::shared_ptr<NuScenesDataset>>(
       m, "NuScenesDataset",
       "The tables of a nuScenes-layout dataroot (radar_ndt/io/nuscenes.h).\n\nNuScenesDataset(dataroot, version='').")
-      .def(py::init([](const std::string& root, const std::string& version) {
+      .def(py::init([](const std::filesystem::path& root_arg, const std::string& version) {
+             const std::string root = root_arg.string();
              py::gil_scoped_release release;
              return std::make_shared<NuScenesDataset>(root, version);
            }),
@@ -274,7 +282,8 @@ void bindNuScenes(py::module_& m) {
 
   m.def(
       "read_nuscenes_pcd",
-      [](const std::string& path, std::uint16_t sensor_id, const py::kwargs& kw) {
+      [](const std::filesystem::path& path_arg, std::uint16_t sensor_id, const py::kwargs& kw) {
+        const std::string path = path_arg.string();
         const auto filter = withKeywords(NuScenesRadarFilter{}, kw, "read_nuscenes_pcd");
         pcl::PointCloud<PointRadar> cloud;
         {

@@ -3,6 +3,7 @@
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>  // paths as str or os.PathLike
 
 #include "bindings.h"
 #include "keywords.h"
@@ -104,7 +105,8 @@ void bindRuns(py::module_& m) {
       "then the keywords.");
   m.def(
       "run_scanning",
-      [](const std::string& path, const std::string& format, const py::kwargs& kw) {
+      [](const std::filesystem::path& path_arg, const std::string& format, const py::kwargs& kw) {
+        const std::string path = path_arg.string();
         const py::dict rest = without(kw, {"method"});
         const ScanFormat f = parseScanFormat(format);
         const auto seq_options = withKeywords(ScanningRunOptions{}, rest, "ScanningRunOptions", "method").sequence;
@@ -128,7 +130,9 @@ void bindRuns(py::module_& m) {
       "ScanningRun. The GIL is released while it runs.");
   m.def(
       "run_automotive",
-      [](const std::string& dataroot, const std::string& scene, const std::string& version, const py::kwargs& kw) {
+      [](const std::filesystem::path& dataroot_arg, const std::string& scene, const std::string& version,
+         const py::kwargs& kw) {
+        const std::string dataroot = dataroot_arg.string();
         const std::string method = kw.contains("method") ? keywordAs<std::string>(kw["method"], "method") : "pw-ndt";
         AutomotiveRunOptions o =
             withKeywords(AutomotiveRunOptions{}, without(kw, {"method"}), "AutomotiveRunOptions", "method, version");

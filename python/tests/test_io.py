@@ -11,7 +11,7 @@ from conftest import BOREAS, NUSCENES, OXFORD, RADIATE, need
 def test_oxford_scan_arrays():
     need(OXFORD)
     path = sorted((OXFORD / "radar").glob("*.png"))[0]
-    scan = radar_ndt.read_oxford_scan(str(path))
+    scan = radar_ndt.read_oxford_scan(path)  # str or os.PathLike
     assert (scan.azimuths, scan.bins) == (400, 3768)
     power = scan.power
     assert power.shape == (400, 3768) and power.dtype == np.uint8 and power.max() > 100
@@ -40,7 +40,7 @@ def test_a_change_to_the_power_view_reaches_the_front_end():
 
 def test_oxford_sequence_and_ground_truth():
     need(OXFORD)
-    seq = radar_ndt.ScanningSequence(str(OXFORD), "oxford")
+    seq = radar_ndt.ScanningSequence(OXFORD, "oxford")
     assert len(seq) == len(list((OXFORD / "radar").glob("*.png"))) and seq.format == "oxford"
     assert np.all(np.diff(seq.stamps) > 0) and 0.2 < seq.period < 0.3
     gt = seq.ground_truth

@@ -6,9 +6,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <thread>
 
 #include "app_common.h"
 #include "batch/batch_plan.h"
@@ -52,16 +54,38 @@ int spawn(const std::vector<std::string>& argv) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
-/// The output of a command (for git's revision); "" when it fails.
-std::string capture(const std::string& command) {
+/// The output of a shell command, stderr included, trailing white space removed; its exit code in
+/// `*code` when given, else "" when it fails.
+std::string capture(const std::string& command, int* code = nullptr) {
   std::string out;
-  if (FILE* p = popen(command.c_str(), "r")) {
+  int status = -1;
+  if (FILE* p = popen((command + " 2>&1").c_str(), "r")) {
     char buf[256];
     while (std::fgets(buf, sizeof buf, p)) out += buf;
-    if (pclose(p) != 0) return "";
+    status = pclose(p);
   }
+  const int exit_code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : 127;
+  if (code)
+    *code = exit_code;
+  else if (exit_code != 0)
+    return "";
   while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
   return out;
+}
+
+/// Polls squeue every second until Slurm lists no task of `job` any more (a job Slurm no longer
+/// knows has ended too). sbatch --wait would do it, but polls ever more slowly: tens of seconds
+/// late on a short array.
+void waitForJob(const std::string& job) {
+  int errors = 0;
+  for (;;) {
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+    int code = 0;
+    const std::string out = capture("squeue -h -r -j " + job + " -o %i", &code);
+    if (code == 0 && out.empty()) return;
+    if (code != 0 && out.find("Invalid job id") != std::string::npos) return;
+    if (code != 0 && ++errors > 60) throw std::runtime_error("squeue keeps failing: " + out);
+  }
 }
 
 std::vector<std::string> commaList(const std::string& text) {
@@ -172,7 +196,7 @@ po::options_description runOptions() {
     ("mem", po::value<std::string>()->default_value("2G"), "slurm: memory per task")
     ("partition", po::value<std::string>()->default_value(""), "slurm: partition (default: the cluster's)")
     ("account", po::value<std::string>()->default_value(""), "slurm: account")
-    ("wait", po::bool_switch(), "slurm: wait until the array has finished (sbatch --wait), then print the states")
+    ("wait", po::bool_switch(), "slurm: wait until the array has finished (squeue, every second), then print the states")
     ("dry-run", po::bool_switch(), "slurm: print the job script, submit nothing");
   // clang-format on
   return o;
@@ -241,11 +265,15 @@ int run(int argc, char** argv) {
     writeFileAtomically(ids_file, ids);
     const std::string script_file = (fs::path(dir) / "slurm" / ("array-" + std::to_string(n) + ".sh")).string();
     writeFileAtomically(script_file, script);
-    std::vector<std::string> sbatch{"sbatch"};
-    if (vm["wait"].as<bool>()) sbatch.push_back("--wait");
-    sbatch.push_back(script_file);
-    const int code = spawn(sbatch);
-    if (!vm["wait"].as<bool>()) return code;
+    int code = 0;
+    const std::string submitted = capture("sbatch --parsable " + shellQuote(script_file), &code);
+    const std::string job = submitted.substr(0, submitted.find(';'));  // "ID" or "ID;cluster"
+    if (code != 0 || job.empty() || job.find_first_not_of("0123456789") != std::string::npos)
+      throw std::runtime_error("sbatch did not submit " + script_file + " (exit " + std::to_string(code) +
+                               "): " + submitted);
+    std::printf("Submitted batch job %s\n", job.c_str());
+    if (!vm["wait"].as<bool>()) return 0;
+    waitForJob(job);
   } else {
     throw std::invalid_argument("--engine must be parallel, slurm or serial, not '" + engine + "'");
   }

@@ -111,14 +111,26 @@ def test_a_killed_run_resumes_without_partial_results(tmp_path):
 
 
 def kill_session(sid):
-    """SIGKILL to every process of session `sid` (GNU parallel puts each job in a group of its own)."""
-    for stat in __import__("pathlib").Path("/proc").glob("[0-9]*/stat"):
-        try:
-            fields = stat.read_text().rsplit(")", 1)[1].split()
-            if int(fields[3]) == sid:
-                os.kill(int(stat.parent.name), signal.SIGKILL)
-        except (OSError, ValueError, IndexError):
-            pass
+    """SIGKILL to every process of session `sid` (GNU parallel puts each job in a group of its own),
+    again until none is left: a job forked while the first round ran is caught by the next."""
+    for _ in range(200):
+        alive = []
+        for stat in __import__("pathlib").Path("/proc").glob("[0-9]*/stat"):
+            try:
+                fields = stat.read_text().rsplit(")", 1)[1].split()
+                if int(fields[3]) == sid and fields[0] != "Z":
+                    alive.append(int(stat.parent.name))
+            except (OSError, ValueError, IndexError):
+                pass
+        if not alive:
+            return
+        for pid in alive:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except OSError:
+                pass
+        time.sleep(0.02)
+    raise AssertionError(f"session {sid} still has processes")
 
 
 def test_plans_refuse_bad_settings_and_name_what_is_wrong(tmp_path):

@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app_common.h"
+
 namespace radar_ndt {
 namespace batch {
 
@@ -34,11 +36,8 @@ double mean(const std::vector<double>& v) {
   return s / static_cast<double>(v.size());
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return kNone;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+double median(const std::vector<double>& v) {
+  return v.empty() ? kNone : apps::median(v);
 }
 
 std::string escapeXml(const std::string& s) {

@@ -17,10 +17,6 @@ namespace python {
 
 namespace {
 
-py::object jsonToPython(const std::string& text) {
-  return py::module_::import("json").attr("loads")(text);
-}
-
 py::dict countersDict(const OdometryCounters& c) {
   py::dict d;
   d["cycles"] = c.cycles;

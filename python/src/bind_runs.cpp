@@ -42,6 +42,15 @@ py::dict summaryOf(const Result& r, const std::string& metrics) {
   return out;
 }
 
+/// `base` with the keywords applied, `method` (a shortcut for matcher.method) last, validated: the
+/// options run_scanning runs with, and what scanning_options shows.
+ScanningRunOptions scanningKeywords(const ScanningRunOptions& base, const py::kwargs& kw) {
+  ScanningRunOptions o = withKeywords(base, without(kw, {"method"}), "ScanningRunOptions", "method");
+  if (kw.contains("method")) o.matcher.method = parseMethod(keywordAs<std::string>(kw["method"], "method"));
+  o.validate();
+  return o;
+}
+
 /// The parts of a run result both pipelines have, and the summary.
 template <typename Result>
 void bindRunResult(py::class_<Result>& c) {
@@ -94,11 +103,7 @@ void bindRuns(py::module_& m) {
   m.def(
       "scanning_options",
       [](const ScanningSequence& sequence, const py::kwargs& kw) {
-        ScanningRunOptions o =
-            withKeywords(defaultScanningOptions(sequence), without(kw, {"method"}), "ScanningRunOptions", "method");
-        if (kw.contains("method")) o.matcher.method = parseMethod(keywordAs<std::string>(kw["method"], "method"));
-        o.validate();
-        return o;
+        return scanningKeywords(defaultScanningOptions(sequence), kw);
       },
       py::arg("sequence"),
       "The options run_scanning runs `sequence` with: the defaults for its radar (defaultScanningOptions), "
@@ -107,19 +112,18 @@ void bindRuns(py::module_& m) {
       "run_scanning",
       [](const std::filesystem::path& path_arg, const std::string& format, const py::kwargs& kw) {
         const std::string path = path_arg.string();
-        const py::dict rest = without(kw, {"method"});
         const ScanFormat f = parseScanFormat(format);
-        const auto seq_options = withKeywords(ScanningRunOptions{}, rest, "ScanningRunOptions", "method").sequence;
-        ScanningRunOptions o;
+        // The sequence is read with the keywords' reader settings, the run uses its radar's defaults.
+        const auto seq_options =
+            withKeywords(ScanningRunOptions{}, without(kw, {"method"}), "ScanningRunOptions", "method").sequence;
+        ScanningRunOptions defaults;
         std::unique_ptr<ScanningSequence> sequence;
         {
           py::gil_scoped_release release;
           sequence = std::make_unique<ScanningSequence>(path, f, seq_options);
-          o = defaultScanningOptions(*sequence);
+          defaults = defaultScanningOptions(*sequence);
         }
-        o = withKeywords(o, rest, "ScanningRunOptions", "method");
-        if (kw.contains("method")) o.matcher.method = parseMethod(keywordAs<std::string>(kw["method"], "method"));
-        o.validate();
+        const ScanningRunOptions o = scanningKeywords(defaults, kw);
         py::gil_scoped_release release;
         return runScanningOdometry(*sequence, o);
       },

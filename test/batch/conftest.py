@@ -3,6 +3,7 @@
 import json
 import os
 import pathlib
+import shlex
 import subprocess
 
 import pytest
@@ -44,18 +45,21 @@ def fmt(v):
     return "" if v is None else "%.9g" % v
 
 
+def metric(metrics, name, key):
+    """metrics[name][key] when it is a number, else None (undefined, or not computed)."""
+    value = metrics.get(name, {}).get(key)
+    return value if isinstance(value, (int, float)) else None
+
+
 def alone_figures(command, work):
     """The metrics of running a task's radar_odometry command alone (its own output file)."""
     argv = list(command)
     argv[argv.index("--out") + 1] = str(work / "alone.txt")
-    summary = json.loads(sh(*argv, "--threads", "1").stdout)
-    m = summary.get("metrics", {})
-    get = lambda *path: (lambda d: d if isinstance(d, (int, float)) else None)(  # noqa: E731
-        __import__("functools").reduce(lambda d, k: d.get(k, {}) if isinstance(d, dict) else {}, path, m))
-    return {"kitti_pct": get("kitti", "trans_err_pct"), "kitti_deg_per_m": get("kitti", "rot_err_deg_per_m"),
-            "1m_pct": get("1m", "trans_err_pct"), "1m_deg_per_m": get("1m", "rot_err_deg_per_m"),
-            "frame_m": get("frame", "trans_err_m"), "frame_deg": get("frame", "rot_err_deg"),
-            "ate_m": get("ate", "rmse_m")}
+    m = json.loads(sh(*argv, "--threads", "1").stdout).get("metrics", {})
+    return {"kitti_pct": metric(m, "kitti", "trans_err_pct"), "kitti_deg_per_m": metric(m, "kitti", "rot_err_deg_per_m"),
+            "1m_pct": metric(m, "1m", "trans_err_pct"), "1m_deg_per_m": metric(m, "1m", "rot_err_deg_per_m"),
+            "frame_m": metric(m, "frame", "trans_err_m"), "frame_deg": metric(m, "frame", "rot_err_deg"),
+            "ate_m": metric(m, "ate", "rmse_m")}
 
 
 def tasks_of(run):
@@ -65,5 +69,5 @@ def tasks_of(run):
         if line.startswith("#"):
             continue
         cols = line.split("\t")
-        out[cols[0]] = __import__("shlex").split(cols[4])
+        out[cols[0]] = shlex.split(cols[4])
     return out

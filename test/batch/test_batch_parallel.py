@@ -4,6 +4,7 @@ skips finished tasks, a lost result reruns alone, a failing task keeps its log a
 a killed run leaves no partial result."""
 
 import os
+import pathlib
 import shutil
 import signal
 import subprocess
@@ -115,7 +116,7 @@ def kill_session(sid):
     again until none is left: a job forked while the first round ran is caught by the next."""
     for _ in range(200):
         alive = []
-        for stat in __import__("pathlib").Path("/proc").glob("[0-9]*/stat"):
+        for stat in pathlib.Path("/proc").glob("[0-9]*/stat"):
             try:
                 fields = stat.read_text().rsplit(")", 1)[1].split()
                 if int(fields[3]) == sid and fields[0] != "Z":

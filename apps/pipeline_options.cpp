@@ -113,6 +113,10 @@ void addPipelineOptions(po::options_description& opts) {
      "scanning: leave the up/down-chirp range shifts of scans with chirp types (boreas, 2024) as they are")
     ("no-motion-compensation", po::bool_switch(),
      "scanning: do not move points to the scan's reference time (ablation)")
+    ("compensation", po::value<std::string>(),
+     ("scanning: how the source's sweep is de-skewed: rounds (with the velocity of the step before, "
+     "re-estimated between matches) or joint (inside the match, by the motion being estimated; "
+     "pw-ndt only), default " + std::string(toString(s.odometry.compensation.mode))).c_str())
     ("compensation-rounds", po::value<int>(), ("scanning: matches per scan at most, the velocity of the points' motion "
                                                "compensation re-estimated between them, default " +
                                                std::to_string(s.odometry.compensation.max_rounds)).c_str())
@@ -169,6 +173,7 @@ ScanningRunOptions scanningOptions(const po::variables_map& vm, const ScanningRu
   if (has("grid")) od.grid = vm["grid"].as<double>();
   if (has("power-shift")) od.power_shift = static_cast<float>(vm["power-shift"].as<double>());
   od.compensation.enabled = !vm["no-motion-compensation"].as<bool>();
+  if (has("compensation")) od.compensation.mode = parseCompensationMode(vm["compensation"].as<std::string>());
   if (has("compensation-rounds")) od.compensation.max_rounds = vm["compensation-rounds"].as<int>();
   if (has("compensation-tolerance")) od.compensation.tolerance = vm["compensation-tolerance"].as<double>();
   od.shift_source_weights = !vm["no-source-shift"].as<bool>();

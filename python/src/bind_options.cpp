@@ -74,6 +74,9 @@ const char* covarianceName(PointCovarianceModel m) {
 const char* egoModelName(EgoVelocityModel m) {
   return toString(m);
 }
+const char* compensationName(CompensationMode m) {
+  return toString(m);
+}
 
 void bindMatcherOptions(py::module_& m) {
   {
@@ -185,10 +188,11 @@ void bindScanningOptions(py::module_& m) {
   }
   {
     using T = MotionCompensationOptions;
-    optionsClass<T>(m, "MotionCompensationOptions", "radar_ndt/odometry/motion_compensation.h")
-        .def_readwrite("enabled", &T::enabled)
+    auto c = optionsClass<T>(m, "MotionCompensationOptions", "radar_ndt/odometry/motion_compensation.h");
+    c.def_readwrite("enabled", &T::enabled)
         .def_readwrite("max_rounds", &T::max_rounds)
         .def_readwrite("tolerance", &T::tolerance);
+    enumField(c, "mode", &T::mode, parseCompensationMode, compensationName);
   }
   {
     using T = KeyframeOptions;

@@ -48,6 +48,9 @@ class RecordingNdt : public WeightedNDT2D<PointRadar, PointRadar> {
  public:
   struct Call {
     float grid, shift;
+    bool sweep;                      // the source sweep's motion inside the match
+    double sweep_dt;                 // its step, when on
+    Eigen::Vector3d sweep_previous;  // and the previous scan's pose in the target's frame
   };
   std::vector<Call> calls;
   bool refuse = false;
@@ -61,7 +64,7 @@ class RecordingNdt : public WeightedNDT2D<PointRadar, PointRadar> {
 
  protected:
   void computeTransformation(PointCloudSource& output, const Matrix4& guess) override {
-    calls.push_back({getResolution(), getPowerShift()});
+    calls.push_back({getResolution(), getPowerShift(), hasSourceSweep(), sweep_.dt, sweep_.previous});
     if (refuse) {
       converged_ = false;
       final_transformation_ = guess;
@@ -341,4 +344,80 @@ TEST(ScanningOdometry, EachCompensationRoundUsesTheVelocityThePreviousMatchFound
   expectSame(round1.source, expected, "round 1's source: the first match's velocity");
   compensateMotion(raw[k - 1], found, expected);
   expectSame(round1.target, expected, "round 1's target: the previous scan at the first match's velocity");
+}
+
+TEST(ScanningOdometry, JointCompensationMatchesTheSourceAsGivenWithTheStepsSweep) {
+  // Each scan truly swept: a point at time offset τ is seen from where the vehicle is then (8 m/s
+  // along the street). With CompensationMode::Joint every match after the second scan's start
+  // hypotheses gets the scan as given (its time offsets kept), and the matcher places it with the
+  // step: Δt and the previous scan's pose in the keyframe's frame. Afterwards the matcher is rigid.
+  std::mt19937 rng(17);
+  std::normal_distribution<float> noise(0.f, 0.03f);
+  const std::vector<Eigen::Vector2d> world = street();
+  ScanningOdometryOptions options;
+  options.compensation.mode = CompensationMode::Joint;
+  auto matcher = recordingMatcher(options.grid);
+  matcher->keep_clouds = true;
+  ScanningOdometry odometry(options, MatcherAdapter(matcher));
+  std::vector<pcl::PointCloud<PointRadar>> raw;
+  std::vector<std::size_t> first_call;
+  const double speed = 8.0, dt = 0.25;
+  for (int k = 0; k < 12; ++k) {
+    pcl::PointCloud<PointRadar> cloud;
+    const double x0 = speed * dt * k;
+    for (const auto& w : world) {
+      const double az = std::atan2(w.y(), w.x() - x0);  // seen from the reference pose: its azimuth
+      const double tau = dt * (az + kPi) / (2 * kPi);
+      const double x = w.x() - (x0 + speed * tau), y = w.y();
+      if (std::hypot(x, y) > 60) continue;
+      PointRadar p(static_cast<float>(x) + noise(rng), static_cast<float>(y) + noise(rng), 0.f, 0.45f);
+      p.cov_xx = p.cov_yy = 0.01f;
+      p.time_offset = static_cast<float>(tau);
+      cloud.push_back(p);
+    }
+    raw.push_back(cloud);
+    first_call.push_back(matcher->calls.size());
+    odometry.addScan(ScanFrame{1000000 + 250000 * static_cast<std::int64_t>(k),
+                               pcl::make_shared<pcl::PointCloud<PointRadar>>(cloud)});
+    EXPECT_FALSE(matcher->hasSourceSweep()) << "scan " << k << ": the matcher must be rigid between scans";
+  }
+  first_call.push_back(matcher->calls.size());
+  const auto& steps = odometry.steps();
+  Pose2 keyframe = Pose2::Zero();
+  bool some_from_a_keyframe = false;
+  for (std::size_t k = 1; k < steps.size(); ++k) {
+    ASSERT_EQ(steps[k].status, StepStatus::Matched) << "step " << k;
+    if (k >= 2) {
+      const Pose2 previous = between(keyframe, steps[k - 1].pose);
+      some_from_a_keyframe |= previous.head<2>().norm() > 1.0;
+      for (std::size_t c = first_call[k]; c < first_call[k + 1]; ++c) {
+        const auto& call = matcher->calls[c];
+        ASSERT_TRUE(call.sweep) << "step " << k;
+        EXPECT_DOUBLE_EQ(call.sweep_dt, dt) << "step " << k;
+        EXPECT_LT((call.sweep_previous - previous).norm(), 1e-9) << "step " << k;
+        const auto& source = matcher->matches[c].source;
+        ASSERT_EQ(source.size(), raw[k].size());
+        for (std::size_t i = 0; i < source.size(); ++i) {
+          ASSERT_EQ(source[i].x, raw[k][i].x) << "step " << k << ": the source as given";
+          ASSERT_EQ(source[i].time_offset, raw[k][i].time_offset) << "step " << k << ": its times kept";
+        }
+      }
+    }
+    if (steps[k].keyframe) keyframe = steps[k].pose;
+  }
+  EXPECT_TRUE(some_from_a_keyframe) << "the keyframes must be more than the previous scan for the test to say so";
+  EXPECT_NEAR(steps.back().pose.x(), speed * dt * 11, 0.1);
+  EXPECT_NEAR(steps.back().pose.y(), 0.0, 0.1);
+}
+
+TEST(ScanningOdometry, JointCompensationRefusesAMatcherThatCannotPlaceASweep) {
+  ScanningOdometryOptions options;
+  options.compensation.mode = CompensationMode::Joint;
+  EXPECT_THROW(ScanningOdometry(options, makeMatcher(Method::PclNdt, options.grid)), std::invalid_argument);
+  EXPECT_NO_THROW(ScanningOdometry(options, makeMatcher(Method::PwNdt, options.grid)));
+  options.compensation.enabled = false;  // nothing to place: any matcher
+  EXPECT_NO_THROW(ScanningOdometry(options, makeMatcher(Method::PclNdt, options.grid)));
+  EXPECT_EQ(parseCompensationMode("joint"), CompensationMode::Joint);
+  EXPECT_STREQ(toString(parseCompensationMode("rounds")), "rounds");
+  EXPECT_THROW(parseCompensationMode("both"), std::invalid_argument);
 }

@@ -38,6 +38,11 @@ ScanningOdometry::ScanningOdometry(const ScanningOdometryOptions& options, Match
       fits_(options.fit),
       compensated_(new pcl::PointCloud<PointRadar>) {
   options_.validate();
+  if (options_.compensation.enabled && options_.compensation.mode == CompensationMode::Joint && matcher_ &&
+      !matcher_.ours())
+    throw std::invalid_argument(
+        "ScanningOdometry: compensation mode joint places the source's points inside the match, which only "
+        "WeightedNDT2D (pw-ndt) does; use rounds with another matcher");
   // The odometry owns the grid, whatever the matcher was built with (prepareMatcher changes it per
   // step: the slow grid, the retry ladder).
   if (matcher_) setGrid(options_.grid);
@@ -219,6 +224,20 @@ bool ScanningOdometry::matchScan(const Attempt& a, const Pose2& guess, Pose2* es
   Pose2 est = guess;  // the motion from the previous scan
   Eigen::Vector3d v = compensate ? velocityOf(guess, a.dt) : Eigen::Vector3d::Zero();
   target_.restore(matcher);  // a previous attempt's re-compensated target: back to this step's own
+  // Joint: the source as given, its points placed inside the match by the motion being estimated
+  // (from the previous scan, at prev_in_keyframe, over dt); only the target is compensated here.
+  const bool joint = compensate && c.mode == CompensationMode::Joint;
+  struct SweepScope {  // the matcher is rigid again whatever way this returns
+    MatcherAdapter::Ours* ours;
+    ~SweepScope() {
+      if (ours) ours->clearSourceSweep();
+    }
+  } sweep{joint ? matcher_.ours() : nullptr};
+  if (joint) {
+    sweep.ours->setSourceSweep(a.dt, a.prev_in_keyframe);
+    *compensated_ = *a.raw;
+    matcher.setInputSource(compensated_);
+  }
   for (int r = 0; r < max_rounds; ++r) {
     if (compensate) {
       // Round 0: both scans at the constant-velocity estimate (the target already is). Later
@@ -226,8 +245,10 @@ bool ScanningOdometry::matchScan(const Attempt& a, const Pose2& guess, Pose2* es
       // and the best estimate for the source's.
       // The first target was never compensated (no velocity then): it is, from round 0 on.
       if ((r > 0 || !target_.compensated()) && a.target_is_previous) target_.giveRecompensated(matcher, v);
-      compensateMotion(*a.raw, v, *compensated_);
-      matcher.setInputSource(compensated_);
+      if (!joint) {
+        compensateMotion(*a.raw, v, *compensated_);
+        matcher.setInputSource(compensated_);
+      }
       ++*rounds;
     } else {
       *compensated_ = *a.raw;  // the matcher keeps its source: ours, not the caller's

@@ -3,6 +3,8 @@
 // a second, so each point is moved from the vehicle pose at its azimuth's time to the pose at the
 // scan's reference time.
 
+#include <string>
+
 #include <pcl/point_cloud.h>
 
 #include "radar_ndt/point_types.h"
@@ -10,8 +12,24 @@
 
 namespace radar_ndt {
 
+/// How the source scan's sweep is de-skewed.
+enum class CompensationMode {
+  /// Moved to its reference time with the velocity of the step before it, then matched; rounds
+  /// re-compensate source and target with the velocity the match found.
+  Rounds,
+  /// Inside the match (ours only): WeightedNDT2D::setSourceSweep places each source point by the
+  /// motion being estimated at the point's time, so motion and de-skew are one unknown. The target
+  /// is compensated as in Rounds, rounds re-compensating it with the velocity the match found.
+  Joint,
+};
+
+/// "rounds", "joint"; throws std::invalid_argument otherwise.
+CompensationMode parseCompensationMode(const std::string& name);
+const char* toString(CompensationMode mode);
+
 struct MotionCompensationOptions {
   bool enabled = true;
+  CompensationMode mode = CompensationMode::Rounds;
   int max_rounds = 2;  ///< matches per attempt at most (the velocity re-estimated between them)
   /// m/s (yaw rate: × 10 m): another round only when the match moved the velocity by more. A
   /// single match's velocity noise is about 0.1 m/s; re-matching within it only chases noise.

@@ -31,6 +31,7 @@
 #include "radar_ndt/registration/detail/ndt_grid.h"
 #include "radar_ndt/registration/detail/newton_optimizer.h"
 #include "radar_ndt/registration/detail/source_points.h"
+#include "radar_ndt/registration/detail/sweep_cost.h"
 #include "radar_ndt/registration/weighted_ndt_2d_result.h"
 #include "radar_ndt/registration/weighted_ndt_2d_settings.h"
 
@@ -107,6 +108,18 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   /// search.
   void setMaxStep(double translation_m, double rotation_rad);
 
+  /// The source sweep's own motion inside the match (docs/matcher.md): each source point is
+  /// placed by x ⊕ m^α instead of x, where m is the constant-velocity motion over the step of
+  /// `interval_s` seconds from the previous scan's reference time, at `previous_pose` (x, y, yaw in
+  /// the target's frame), to the source's, and α the point's time offset (the `time_offset`
+  /// field; 0 for types without one) over `interval_s`. The estimated motion and the de-skew of
+  /// the source are then one unknown. Holds for every align() until clearSourceSweep(). Throws
+  /// std::invalid_argument for an interval not positive and finite or a pose not finite.
+  void setSourceSweep(double interval_s, const Eigen::Vector3d& previous_pose);
+  /// Back to one rigid pose for the whole source (the default).
+  void clearSourceSweep() { sweep_on_ = false; }
+  bool hasSourceSweep() const { return sweep_on_; }
+
   /// Everything the last align() found: transform, convergence and why it stopped, iterations,
   /// cost, Hessian, pose covariance, source and matched points (WeightedNDT2DResult).
   const WeightedNDT2DResult& getResult() const { return result_; }
@@ -169,11 +182,15 @@ class WeightedNDT2D : public pcl::Registration<PointSource, PointTarget, float> 
   /// Sets the result's transform (and PCL's) to `x` and moves `output`, the source as
   /// pcl::Registration::align() copied it, there.
   void finish(PointCloudSource& output, const Eigen::Vector3d& x);
+  /// finish() for a source sweep: each point of `output` placed by x ⊕ m^α.
+  void placeSweptOutput(PointCloudSource& output, const Eigen::Vector3d& x);
 
   WeightedNDT2DSettings settings_;
   std::vector<detail::NdtGrid> grids_;  // one per resolution, coarse to fine
   bool model_stale_ = false;            // a setting changed since grids_ was built
   std::vector<detail::WeightedPoint2D> source_points_;
+  bool sweep_on_ = false;  // setSourceSweep(): each point placed by its time in the sweep
+  detail::SweepStep sweep_;
   detail::SourceVoxelScratch voxel_scratch_;
   WeightedNDT2DResult result_;
 };

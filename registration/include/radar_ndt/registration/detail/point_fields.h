@@ -28,6 +28,18 @@ inline float pointPower(const PointT& p) {
   }
 }
 
+/// The point's time offset (s) within its sweep: PointRadar's `time_offset`; 0 for a type without
+/// one or when it is not finite (the point is then placed at the sweep's reference time).
+template <typename PointT>
+inline double pointTimeOffset(const PointT& p) {
+  if constexpr (pcl::traits::has_field<PointT, pcl::fields::time_offset>::value)
+    return std::isfinite(p.time_offset) ? static_cast<double>(p.time_offset) : 0.0;
+  else {
+    (void)p;
+    return 0.0;
+  }
+}
+
 /// The point's own 2x2 position covariance, zero when the type has none.
 template <typename PointT>
 inline Eigen::Vector3d pointCovariance(const PointT& p) {  // (xx, xy, yy)

@@ -18,9 +18,11 @@
 namespace radar_ndt {
 namespace detail {
 
-/// A source point reduced to what the cost needs.
+/// A source point reduced to what the cost needs: position, weight and time offset within its
+/// sweep (s; used only when the sweep's motion is part of the match, detail/sweep_cost.h).
 struct WeightedPoint2D {
   double x, y, w;
+  double t = 0;
 };
 
 /// Buffers the voxel merge reuses from scan to scan (so nothing is allocated while scans keep
@@ -29,6 +31,7 @@ struct SourceVoxelScratch {
   std::vector<std::int32_t> keys;       ///< each point's voxel key
   std::vector<std::int32_t> table;      ///< the dense table of voxel slots
   std::vector<WeightedPoint2D> merged;  ///< the merged points (then the previous source)
+  std::vector<WeightedPoint2D> late;    ///< a sweep's later half (mergeSourceVoxelsByHalfSweep)
 };
 
 /// The usable points of `cloud` at `indices` with their eq. (2) weights
@@ -45,7 +48,7 @@ void weightSourcePoints(const pcl::PointCloud<PointT>& cloud, const pcl::Indices
     const double w = std::max(0.0, static_cast<double>(pointPower(p)) - shift) *
                      expNegative(-0.5 * (std::sqrt(cov.x()) + std::sqrt(cov.z())));
     if (!(w > 0.0) || !std::isfinite(w)) continue;
-    out.push_back({p.x, p.y, w});
+    out.push_back({p.x, p.y, w, pointTimeOffset(p)});
   }
 }
 
@@ -123,17 +126,46 @@ inline void mergeSourceVoxels(double v, std::vector<WeightedPoint2D>& points, So
   merged.clear();
   merged.reserve(points.size());
   forEachVoxelSlot(points, scratch.keys, extent, scratch, [&](std::int32_t slot, const WeightedPoint2D& p, bool fresh) {
-    if (fresh) merged.push_back({0, 0, 0});
+    if (fresh) merged.push_back({0, 0, 0, 0});
     auto& m = merged[static_cast<std::size_t>(slot)];
     m.x += p.w * p.x;
     m.y += p.w * p.y;
     m.w += p.w;
+    m.t += p.w * p.t;
   });
   for (auto& m : merged) {
     m.x /= m.w;
     m.y /= m.w;
+    m.t /= m.w;
   }
   points.swap(merged);
+}
+
+/// mergeSourceVoxels for a sweep whose points carry their time offsets: the points of the earlier
+/// and the later half of the offsets' span are merged apart, the earlier half's first. A sweep
+/// starts and ends at one azimuth, so voxels there hold points a whole sweep apart in time, whose
+/// mean time would place them where neither was; elsewhere a voxel spans a few milliseconds.
+inline void mergeSourceVoxelsByHalfSweep(double v, std::vector<WeightedPoint2D>& points, SourceVoxelScratch& scratch) {
+  if (points.empty()) return;
+  double t0 = points.front().t, t1 = t0;
+  for (const auto& p : points) {
+    t0 = std::min(t0, p.t);
+    t1 = std::max(t1, p.t);
+  }
+  const double mid = 0.5 * (t0 + t1);
+  std::vector<WeightedPoint2D>& late = scratch.late;
+  late.clear();
+  std::size_t n = 0;
+  for (const auto& p : points) {
+    if (p.t > mid)
+      late.push_back(p);
+    else
+      points[n++] = p;
+  }
+  points.resize(n);
+  mergeSourceVoxels(v, points, scratch);
+  mergeSourceVoxels(v, late, scratch);
+  points.insert(points.end(), late.begin(), late.end());
 }
 
 }  // namespace detail

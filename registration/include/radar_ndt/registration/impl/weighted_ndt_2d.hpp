@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include <Eigen/Eigenvalues>
 #include <pcl/common/transforms.h>
@@ -118,6 +120,18 @@ void WeightedNDT2D<PointSource, PointTarget>::setMaxStep(double translation_m, d
 }
 
 template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::setSourceSweep(double interval_s, const Eigen::Vector3d& previous_pose) {
+  if (!(interval_s > 0) || !std::isfinite(interval_s))
+    throw std::invalid_argument("WeightedNDT2D::setSourceSweep: the interval must be > 0 and finite, got " +
+                                std::to_string(interval_s));
+  if (!previous_pose.allFinite())
+    throw std::invalid_argument("WeightedNDT2D::setSourceSweep: the previous pose is not finite");
+  sweep_.dt = interval_s;
+  sweep_.previous = previous_pose;
+  sweep_on_ = true;
+}
+
+template <typename PointSource, typename PointTarget>
 std::size_t WeightedNDT2D<PointSource, PointTarget>::getTargetModelBytes() const {
   std::size_t bytes = 0;
   for (const auto& g : grids_) bytes += g.memoryBytes();
@@ -141,7 +155,10 @@ void WeightedNDT2D<PointSource, PointTarget>::prepareSource() {
   // eq. (2): w = max(p − s, 0) · exp(−½(σx + σy)); s = 0 here with setShiftSourceWeights(false)
   const double source_shift = settings_.shift_source_weights ? settings_.power_shift : 0.0f;
   detail::weightSourcePoints(*input_, *this->indices_, source_shift, source_points_);
-  detail::mergeSourceVoxels(settings_.source_voxel_size, source_points_, voxel_scratch_);
+  if (sweep_on_ && settings_.source_voxel_size > 0)
+    detail::mergeSourceVoxelsByHalfSweep(settings_.source_voxel_size, source_points_, voxel_scratch_);
+  else
+    detail::mergeSourceVoxels(settings_.source_voxel_size, source_points_, voxel_scratch_);
 }
 
 namespace detail {
@@ -220,6 +237,9 @@ void WeightedNDT2D<PointSource, PointTarget>::solveStages(Eigen::Vector3d& x, St
       const bool diagnose = finest && phase == 1;  // also compute what the diagnostics need
       auto cost = [&](const Eigen::Vector3d& at, Eigen::Vector3d* g, Eigen::Matrix3d* H, detail::NdtDiagnostics* d) {
         const bool with = diagnose && d;
+        if (sweep_on_)
+          return detail::ndtSweepCost(grid, source_points_, sweep_, at, g, H, with ? &d->matched : nullptr,
+                                      with ? &d->information : nullptr, stride);
         return detail::ndtCost(grid, source_points_, at, g, H, with ? &d->matched : nullptr,
                                with ? &d->information : nullptr, stride);
       };
@@ -266,10 +286,33 @@ void WeightedNDT2D<PointSource, PointTarget>::finish(PointCloudSource& output, c
   converged_ = result_.converged;
   final_transformation_ = transformation_ = result_.final_transformation;
   nr_iterations_ = result_.iterations;
+  if (sweep_on_) {
+    placeSweptOutput(output, x);
+    return;
+  }
   pcl::transformPointCloud(output, output, final_transformation_);
   if constexpr (pcl::traits::has_field<PointSource, pcl::fields::cov_xx>::value) {
     const Eigen::Matrix2d R = Eigen::Rotation2Dd(x.z()).toRotationMatrix();
     for (auto& p : output) detail::rotateCovariance(p, R);
+  }
+}
+
+template <typename PointSource, typename PointTarget>
+void WeightedNDT2D<PointSource, PointTarget>::placeSweptOutput(PointCloudSource& output, const Eigen::Vector3d& x) {
+  // Each point where the cost placed it, x ⊕ m^α, rotated by θ + αφ; z is kept as
+  // pcl::transformPointCloud keeps it for a planar transform.
+  const double c = std::cos(x.z()), s = std::sin(x.z());
+  const double phi = x.z() - sweep_.previous.z();
+  const double ux = x.x() - sweep_.previous.x(), uy = x.y() - sweep_.previous.y();
+  for (auto& p : output) {
+    const double alpha = detail::pointTimeOffset(p) / sweep_.dt;
+    const detail::SweepPlacement q = detail::placeInSweep(p.x, p.y, alpha, c, s, x.x(), x.y(), phi, ux, uy);
+    p.x = static_cast<float>(q.qx);
+    p.y = static_cast<float>(q.qy);
+    if constexpr (pcl::traits::has_field<PointSource, pcl::fields::cov_xx>::value)
+      detail::rotateCovariance(p, Eigen::Rotation2Dd(x.z() + alpha * phi).toRotationMatrix());
+    if constexpr (pcl::traits::has_field<PointSource, pcl::fields::time_offset>::value)
+      p.time_offset = 0.f;  // seen from the source's reference pose now, as compensateMotion leaves it
   }
 }
 

@@ -210,6 +210,19 @@ void bindRegistration(py::module_& m) {
           "Aligns `source` to `target` from `guess` (3x3 SE(2), 4x4 or (x, y, yaw); default identity).\n"
           "Points: (N, 3) x, y, power; (N, 2) x, y (power 1); or (N, 11) radar_ndt.POINT_FIELDS. Returns a "
           "WeightedNDT2DResult. The GIL is released while it runs.")
+      .def(
+          "set_source_sweep",
+          [](Ours& r, double interval, const py::object& previous_pose) {
+            r.setSourceSweep(interval, poseOf(toMatrix4f(previous_pose, "previous_pose")));
+          },
+          py::arg("interval"), py::arg("previous_pose") = py::make_tuple(0.0, 0.0, 0.0),
+          "The source sweep's motion inside the match (docs/matcher.md): each source point, at its time "
+          "offset (POINT_FIELDS' time_offset column) within its sweep, is placed by the constant-velocity "
+          "motion over the step of `interval` seconds from `previous_pose` (the previous scan's pose in the "
+          "target's frame; 3x3, 4x4 or (x, y, yaw), default identity) to the source's. Holds for every align "
+          "until clear_source_sweep(); raises ValueError for an interval not positive and finite.")
+      .def("clear_source_sweep", &Ours::clearSourceSweep, "Back to one rigid pose for the whole source.")
+      .def_property_readonly("has_source_sweep", &Ours::hasSourceSweep)
       .def_property_readonly(
           "result", [](const Ours& r) { return r.getResult(); }, "the last align()'s result");
 

@@ -47,6 +47,18 @@ def test_run_scanning_with_pcl_ndt_and_options_matches_the_app(work):
     assert ours.read_bytes() == theirs.read_bytes()
 
 
+def test_joint_compensation_through_run_scanning_matches_the_app(work):
+    need(OXFORD)
+    run = radar_ndt.run_scanning(OXFORD, threads=1, odometry={"compensation": {"mode": "joint"}})
+    ours, theirs = work / "joint.tum", work / "joint-app.tum"
+    radar_ndt.write_trajectory(ours, run.estimate, "tum")
+    app("radar_odometry", "--format", "oxford", "--sequence", OXFORD, "--compensation", "joint", "--threads", "1",
+        "--out", theirs, "-q")
+    assert ours.read_bytes() == theirs.read_bytes()
+    with pytest.raises(ValueError, match="rounds or joint"):
+        radar_ndt.run_scanning(OXFORD, odometry={"compensation": {"mode": "both"}})
+
+
 def test_the_summary_and_metrics_equal_the_apps_json(oxford_run):
     expected = json.loads(app("radar_odometry", "--format", "oxford", "--sequence", OXFORD, "--eval", "--metric",
                               "frame,ate", "--json", "-q"))

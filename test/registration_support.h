@@ -3,6 +3,7 @@
 // with a covariance, and a pose comparison.
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <type_traits>
 
 #include <gtest/gtest.h>
@@ -76,6 +77,28 @@ inline SyntheticScanPair noisyPair(std::uint32_t seed, std::size_t points) {
   o.seed = seed;
   o.noise_std = 0.05;
   return makeSyntheticScanPair(o);
+}
+
+/// The analytic gradient and Hessian `cost` gives at `x` against central differences of its value
+/// (step 1e-6): the gradient within 1e-4 of its norm (+1e-6), the Hessian within 1e-3 of its norm.
+template <typename Cost>
+void expectDerivativesMatchFiniteDifferences(const Cost& cost, const Eigen::Vector3d& x, const std::string& what = "") {
+  Eigen::Vector3d g;
+  Eigen::Matrix3d H;
+  cost(x, &g, &H);
+  const double h = 1e-6;
+  Eigen::Vector3d g_fd;
+  Eigen::Matrix3d H_fd;
+  for (int i = 0; i < 3; ++i) {
+    Eigen::Vector3d d = Eigen::Vector3d::Zero();
+    d(i) = h;
+    Eigen::Vector3d gp = Eigen::Vector3d::Zero(), gm = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d Hp;
+    g_fd(i) = (cost(x + d, &gp, &Hp) - cost(x - d, &gm, &Hp)) / (2 * h);
+    H_fd.col(i) = (gp - gm) / (2 * h);
+  }
+  EXPECT_LT((g - g_fd).norm(), 1e-4 * g.norm() + 1e-6) << what << "\n" << g.transpose() << "\n" << g_fd.transpose();
+  EXPECT_LT((H - H_fd).norm(), 1e-3 * H.norm()) << what << "\n" << H << "\n" << H_fd;
 }
 
 inline PointRadar pointWith(float x, float y, float power, float cxx, float cxy, float cyy) {

@@ -27,6 +27,17 @@ struct NdtSums {
   std::size_t matched = 0;
 };
 
+/// Hands the sums out: gradient, symmetric Hessian and information, matched count (each when
+/// asked for); returns the cost's value.
+inline double writeSums(const NdtSums& sum, Eigen::Vector3d* gradient, Eigen::Matrix3d* hessian, std::size_t* matched,
+                        Eigen::Matrix3d* information) {
+  if (gradient) *gradient << sum.g0, sum.g1, sum.g2;
+  if (hessian) *hessian << sum.h00, sum.h01, sum.h02, sum.h01, sum.h11, sum.h12, sum.h02, sum.h12, sum.h22;
+  if (information) *information << sum.i00, sum.i01, sum.i02, sum.i01, sum.i11, sum.i12, sum.i02, sum.i12, sum.i22;
+  if (matched) *matched = sum.matched;
+  return sum.value;
+}
+
 /// Adds one point-to-cell term's Hessian and information to `s`: e its weighted Gaussian score,
 /// (ax, ay) = Σ⁻¹ d, a2 = dᵀ Σ⁻¹ ∂q/∂yaw, (jx, jy) = ∂q/∂yaw, (rx, ry) = R p.
 inline void addSecondOrder(NdtSums& s, double e, const NdtCell& cell, double ax, double ay, double a2, double jx,
@@ -90,11 +101,7 @@ inline double ndtCost(const NdtGrid& grid, const std::vector<WeightedPoint2D>& p
     }
     if (hit) ++sum.matched;
   }
-  if (gradient) *gradient << sum.g0, sum.g1, sum.g2;
-  if (hessian) *hessian << sum.h00, sum.h01, sum.h02, sum.h01, sum.h11, sum.h12, sum.h02, sum.h12, sum.h22;
-  if (information) *information << sum.i00, sum.i01, sum.i02, sum.i01, sum.i11, sum.i12, sum.i02, sum.i12, sum.i22;
-  if (matched) *matched = sum.matched;
-  return sum.value;
+  return writeSums(sum, gradient, hessian, matched, information);
 }
 
 }  // namespace detail

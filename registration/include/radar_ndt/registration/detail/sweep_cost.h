@@ -154,11 +154,7 @@ inline double ndtSweepCost(const NdtGrid& grid, const std::vector<WeightedPoint2
     }
     if (hit) ++sum.matched;
   }
-  if (gradient) *gradient << sum.g0, sum.g1, sum.g2;
-  if (hessian) *hessian << sum.h00, sum.h01, sum.h02, sum.h01, sum.h11, sum.h12, sum.h02, sum.h12, sum.h22;
-  if (information) *information << sum.i00, sum.i01, sum.i02, sum.i01, sum.i11, sum.i12, sum.i02, sum.i12, sum.i22;
-  if (matched) *matched = sum.matched;
-  return sum.value;
+  return writeSums(sum, gradient, hessian, matched, information);
 }
 
 }  // namespace detail

@@ -17,12 +17,17 @@ PYBIND11_MODULE(_radar_ndt, m) {
       "A file that cannot be read or written: the message names the file and the problem; `filename` and "
       "`line` (1-based, 0 when not tied to a line) say where.",
       PyExc_OSError, nullptr);
+  // OSError's own str() shows "[Errno None] None: 'file'" once `filename` is set, which hides the
+  // problem: the message (it names the file and the problem) is what str() gives, and strerror too.
+  py::reinterpret_borrow<py::object>(io_error).attr("__str__") = py::cpp_function(
+      [](py::handle self) { return py::str(py::tuple(self.attr("args"))[0]); }, py::is_method(io_error));
   m.add_object("IoError", io_error);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const radar_ndt::IoError& e) {
       py::object err = io_error(py::str(e.what()));
+      err.attr("strerror") = e.what();
       err.attr("filename") = e.file();
       err.attr("line") = e.line();
       PyErr_SetObject(io_error.ptr(), err.ptr());

@@ -61,6 +61,9 @@ def expect_io_error(call, path, match=None):
     assert isinstance(e.value, OSError)
     assert e.value.filename == str(path)
     assert str(path) in str(e.value)
+    # What print(e) shows is the message, which names the problem too, not OSError's errno form.
+    assert str(e.value) == e.value.args[0] == e.value.strerror
+    assert "[Errno" not in str(e.value)
     return e.value
 
 

@@ -27,6 +27,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// 2000-01-01 in s since 1970: trajectory times from then on are dates, earlier ones times from a start.
+constexpr double kYear2000 = 946684800.0;
+
 struct Setting {
   std::string group;
   std::function<void(double)> set;
@@ -207,8 +210,8 @@ int main(int argc, char** argv) {
      "ego trajectory, KITTI, TUM or a Boreas pose file (applanix/radar_poses.csv: its times and place are kept "
      "for --layout boreas) (e.g. ../shared/data/oxford-radar-gt/*.txt); default: a built-in 2-minute city drive")
     ("start-stamp", po::value(&start_stamp),
-     "the first scan's time (µs since 1970); default: the trajectory's own time for a Boreas pose file, else "
-     "1547120000000000 (2019-01-10)")
+     "the first scan's time (µs since 1970); default, --layout boreas: the trajectory's own time when it is a "
+     "date (a Boreas pose file's; a TUM file timed from 0 is not), else 1547120000000000 (2019-01-10)")
     ("chirp-flags", po::bool_switch(&chirp_flags),
      "--layout boreas: write the flag byte as alternating up/down chirp types, as 2024 Boreas scans, and shift "
      "each azimuth's ranges by +-beta times the scenery's radial velocity as its chirp does")
@@ -453,8 +456,8 @@ int main(int argc, char** argv) {
     seq.progress = !quiet;
     if (vm.count("start-stamp"))
       seq.start_stamp_us = start_stamp;
-    else if (boreas && path.hasStamps() && start < path.size())
-      seq.start_stamp_us = std::llround(path.stamps[start] * 1e6);
+    else if (boreas && path.hasStamps() && start < path.size() && path.stamps[start] >= kYear2000)
+      seq.start_stamp_us = std::llround(path.stamps[start] * 1e6);  // a date (a Boreas pose file's)
     sim::SequenceSummary summary;
     if (boreas) {
       // The Boreas sensor of the scans' date, as the reader will decide it.

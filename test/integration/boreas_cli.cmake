@@ -66,6 +66,20 @@ run_and_check(builtin_2021 SIM_ARGS --frames 40 --start 40 --start-stamp 1628185
 # Oxford's, not as the real 2024 scan, so the paper's threshold is given over the chirp default.
 run_and_check(builtin_2024_chirps SIM_ARGS --frames 40 --start 40 --start-stamp 1733239501983835 --chirp-flags
               ODO_ARGS --threshold 0.333 --power-shift 0.333)
+# A TUM trajectory timed from 0 s (a straight line at 10 m/s): not a date, so the scans are dated
+# 2019-01-10 as the default start stamp says, and the reader takes their pose file.
+set(tum "${OUT}/straight.tum")
+file(WRITE "${tum}" "")
+foreach(k RANGE 0 49)
+  math(EXPR ms "${k} * 250")
+  math(EXPR dm "${k} * 25")
+  file(APPEND "${tum}" "${ms}e-3 ${dm}e-1 0 0 0 0 0 1\n")
+endforeach()
+run_and_check(tum_from_zero SIM_ARGS --trajectory "${tum}" --start 5 --frames 40)
+file(GLOB tum_scans "${OUT}/tum_from_zero/radar/15471*.png")
+if(NOT tum_scans)
+  message(FATAL_ERROR "tum_from_zero: the scans are not dated from 1547120000000000")
+endif()
 # From the real Boreas pose file, where the car drives at about 14 m/s.
 set(poses "${DATA}/boreas-sample/boreas-2021-08-05-13-34/applanix/radar_poses.csv")
 if(EXISTS "${poses}")

@@ -75,7 +75,7 @@ TEST(SweepCost, PlacementIsTheConstantVelocityPoseAtThePointsTime) {
     const Pose2 x = compose(previous, integrateVelocity(v, kSweep));
     const double c = std::cos(x.z()), s = std::sin(x.z());
     const double phi = x.z() - previous.z();
-    for (const double tau : {0.0, 0.05, 0.125, 0.2, 0.25}) {
+    for (const double tau : {-0.125, -0.05, 0.0, 0.05, 0.125, 0.2, 0.25}) {  // < 0: before a mid-sweep reference
       const Pose2 truth = compose(compose(x, integrateVelocity(v, tau)), Pose2(20.0, -7.0, 0));
       const detail::SweepPlacement q = detail::placeInSweep(20.0, -7.0, tau / kSweep, c, s, x.x(), x.y(), phi,
                                                             x.x() - previous.x(), x.y() - previous.y());

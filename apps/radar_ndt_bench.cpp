@@ -18,14 +18,14 @@
 #include <pcl/registration/ndt_2d.h>
 
 #include "app_common.h"
+#include "radar_ndt/frontend/automotive_front_end.h"
 #include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/frontend/probabilistic_submap.h"
-#include "radar_ndt/frontend/radar_cycle.h"
+#include "radar_ndt/io/nuscenes_sequence.h"
 #include "radar_ndt/io/oxford_ground_truth.h"
 #include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/odometry/matcher.h"
-#include "radar_ndt/pipeline/nuscenes_sequence.h"
 #include "radar_ndt/registration/weighted_ndt_2d.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/sim/synthetic_scan.h"

@@ -16,14 +16,15 @@
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
+#include "paper_tables/motion_noise.h"
 #include "pipeline_options.h"
-#include "radar_ndt/evaluation/motion_noise.h"
 #include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/scanning_run.h"
 
 using namespace radar_ndt;
+using namespace radar_ndt::apps;
 namespace po = boost::program_options;
 using nlohmann::json;
 

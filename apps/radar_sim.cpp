@@ -11,17 +11,24 @@
 #include <sstream>
 
 #include "app_common.h"
-#include "radar_ndt/evaluation/scan_statistics.h"
 #include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/png_image.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/radiate_scan.h"
+#include "radar_ndt/io/scanning_sequence.h"
 #include "radar_ndt/io/trajectory_io.h"
-#include "radar_ndt/pipeline/scanning_sequence.h"
 #include "radar_ndt/sim/radar_sim.h"
+#include "radar_ndt/sim/scan_statistics.h"
 
 using namespace radar_ndt;
+using radar_ndt::sim::compareRealism;
+using radar_ndt::sim::RealismCheck;
+using radar_ndt::sim::ScanStatistics;
+using radar_ndt::sim::scanStatistics;
+using radar_ndt::sim::ScanStatisticsOptions;
+using radar_ndt::sim::StatisticsSummary;
+using radar_ndt::sim::summarize;
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
 

@@ -11,10 +11,10 @@
 #include "keywords.h"
 #include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/nuscenes_sequence.h"
 #include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/radiate_scan.h"
-#include "radar_ndt/pipeline/nuscenes_sequence.h"
-#include "radar_ndt/pipeline/scanning_sequence.h"
+#include "radar_ndt/io/scanning_sequence.h"
 
 namespace radar_ndt {
 namespace python {
@@ -193,7 +193,7 @@ void bindTrajectory(py::module_& m) {
 
 void bindScanningSequence(py::module_& m) {
   py::class_<ScanningSequence>(m, "ScanningSequence",
-                               "A scanning-radar sequence directory (radar_ndt/pipeline/scanning_sequence.h).\n\n"
+                               "A scanning-radar sequence directory (radar_ndt/io/scanning_sequence.h).\n\n"
                                "ScanningSequence(path, format='oxford', **ScanningSequenceOptions): oxford, radiate or "
                                "boreas.")
       .def(py::init([](const std::filesystem::path& dir_arg, const std::string& format, const py::kwargs& kw) {
@@ -307,7 +307,7 @@ void bindNuScenes(py::module_& m) {
       .def_readonly("sweeps", &RadarCycle::sweeps);
 
   py::class_<NuScenesRadarSequence>(m, "NuScenesRadarSequence",
-                                    "A nuScenes scene as radar cycles (radar_ndt/pipeline/nuscenes_sequence.h).\n\n"
+                                    "A nuScenes scene as radar cycles (radar_ndt/io/nuscenes_sequence.h).\n\n"
                                     "NuScenesRadarSequence(dataset, scene, **NuScenesSequenceOptions).")
       .def(py::init([](const NuScenesDataset& d, const std::string& scene, const py::kwargs& kw) {
              const auto o = withKeywords(NuScenesSequenceOptions{}, kw, "NuScenesRadarSequence");

@@ -151,7 +151,7 @@ void bindScanningOptions(py::module_& m) {
   }
   {
     using T = ScanningSequenceOptions;
-    optionsClass<T>(m, "ScanningSequenceOptions", "radar_ndt/pipeline/scanning_sequence.h")
+    optionsClass<T>(m, "ScanningSequenceOptions", "radar_ndt/io/scanning_sequence.h")
         .def_readwrite("oxford", &T::oxford)
         .def_readwrite("radiate", &T::radiate)
         .def_readwrite("boreas", &T::boreas);
@@ -250,7 +250,7 @@ void bindAutomotiveOptions(py::module_& m) {
   }
   {
     using T = NuScenesSequenceOptions;
-    optionsClass<T>(m, "NuScenesSequenceOptions", "radar_ndt/pipeline/nuscenes_sequence.h")
+    optionsClass<T>(m, "NuScenesSequenceOptions", "radar_ndt/io/nuscenes_sequence.h")
         .def_readwrite("filter", &T::filter)
         .def_readwrite("reference_channel", &T::reference_channel)
         .def_readwrite("channels", &T::channels);
@@ -278,7 +278,7 @@ void bindAutomotiveOptions(py::module_& m) {
   }
   {
     using T = AutomotiveFrontEndOptions;
-    auto c = optionsClass<T>(m, "AutomotiveFrontEndOptions", "radar_ndt/frontend/radar_cycle.h");
+    auto c = optionsClass<T>(m, "AutomotiveFrontEndOptions", "radar_ndt/frontend/automotive_front_end.h");
     c.def_readwrite("polar", &T::polar)
         .def_readwrite("ego_velocity", &T::ego_velocity)
         .def_readwrite("remove_moving", &T::remove_moving)

@@ -11,9 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include "radar_ndt/evaluation/report.h"
+#include "radar_ndt/io/nuscenes_sequence.h"
 #include "radar_ndt/odometry/automotive_odometry.h"
 #include "radar_ndt/pipeline/automotive_run.h"
-#include "radar_ndt/pipeline/nuscenes_sequence.h"
 #include "radar_ndt/se2.h"
 #include "test_support.h"
 

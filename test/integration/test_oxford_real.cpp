@@ -15,8 +15,8 @@
 #include "radar_ndt/io/oxford_ground_truth.h"
 #include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/polar_scan.h"
+#include "radar_ndt/io/scanning_sequence.h"
 #include "radar_ndt/pipeline/scanning_run.h"
-#include "radar_ndt/pipeline/scanning_sequence.h"
 
 using namespace radar_ndt;
 

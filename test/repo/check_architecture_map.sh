@@ -9,7 +9,7 @@ set -u
 root=${1:?usage: check_architecture_map.sh REPO_ROOT}
 map=$root/docs/architecture.md
 [ -f "$map" ] || { echo "missing: $map"; exit 1; }
-prefixes=("" "radar_ndt/include/radar_ndt/" "radar_ndt/core/include/radar_ndt/" "registration/include/radar_ndt/registration/"
+prefixes=("" "radar_ndt/include/radar_ndt/" "core/include/radar_ndt/" "sim/include/radar_ndt/" "registration/include/radar_ndt/registration/"
           "io/include/radar_ndt/io/" "radar_ndt/")
 missing=0 checked=0
 while IFS= read -r path; do

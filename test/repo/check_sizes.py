@@ -16,8 +16,8 @@ import sys
 
 MAX_FUNCTION = 60
 MAX_FILE = 500
-FUNCTION_DIRS = ("registration", "io", "radar_ndt")
-SOURCE_DIRS = ("apps", "io", "python", "radar_ndt", "registration", "test")
+FUNCTION_DIRS = ("core", "registration", "io", "radar_ndt", "sim")
+SOURCE_DIRS = ("apps", "core", "io", "python", "radar_ndt", "registration", "sim", "test")
 EXCEPTION = "Kept as one function:"
 
 

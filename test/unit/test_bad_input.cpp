@@ -21,8 +21,8 @@
 #include "radar_ndt/io/pcd.h"
 #include "radar_ndt/io/png_image.h"
 #include "radar_ndt/io/radiate_scan.h"
+#include "radar_ndt/io/scanning_sequence.h"
 #include "radar_ndt/io/trajectory_io.h"
-#include "radar_ndt/pipeline/scanning_sequence.h"
 #include "test_support.h"
 
 using namespace radar_ndt;

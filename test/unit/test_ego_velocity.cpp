@@ -8,10 +8,10 @@
 #include <filesystem>
 #include <random>
 
+#include "radar_ndt/frontend/automotive_front_end.h"
 #include "radar_ndt/frontend/doppler_outlier_removal.h"
 #include "radar_ndt/frontend/ego_velocity.h"
-#include "radar_ndt/frontend/radar_cycle.h"
-#include "radar_ndt/pipeline/nuscenes_sequence.h"
+#include "radar_ndt/io/nuscenes_sequence.h"
 #include "radar_ndt/se2.h"
 
 #include "doppler_support.h"

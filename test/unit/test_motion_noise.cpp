@@ -5,9 +5,10 @@
 #include <random>
 #include <stdexcept>
 
-#include "radar_ndt/evaluation/motion_noise.h"
+#include "paper_tables/motion_noise.h"
 
 using namespace radar_ndt;
+using namespace radar_ndt::apps;
 
 namespace {
 /// Samples whose Doppler errors are N(0, fit + diag(s_d²)·dt²) and whose match errors are

@@ -8,20 +8,27 @@
 
 #include <gtest/gtest.h>
 
-#include "radar_ndt/evaluation/scan_statistics.h"
 #include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/oxford_ground_truth.h"
 #include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/radiate_scan.h"
+#include "radar_ndt/io/scanning_sequence.h"
 #include "radar_ndt/io/trajectory_io.h"
-#include "radar_ndt/pipeline/scanning_sequence.h"
 #include "radar_ndt/sim/radar_sim.h"
+#include "radar_ndt/sim/scan_statistics.h"
 #include "sim_support.h"
 #include "test_support.h"
 
 using namespace radar_ndt;
+using radar_ndt::sim::compareRealism;
+using radar_ndt::sim::RealismCheck;
+using radar_ndt::sim::ScanStatistics;
+using radar_ndt::sim::scanStatistics;
+using radar_ndt::sim::ScanStatisticsOptions;
+using radar_ndt::sim::StatisticsSummary;
+using radar_ndt::sim::summarize;
 using radar_ndt::test::freshTempDir;
 using radar_ndt::test::readBytes;
 using namespace radar_ndt::test;

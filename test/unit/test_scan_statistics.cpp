@@ -4,9 +4,10 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "radar_ndt/evaluation/scan_statistics.h"
+#include "radar_ndt/sim/scan_statistics.h"
 
 using namespace radar_ndt;
+using namespace radar_ndt::sim;
 
 namespace {
 /// 4 azimuths x 100 bins of 1 m (bin b at b + 0.5 m): power byte = `value(a, b)`.

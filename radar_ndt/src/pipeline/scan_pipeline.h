@@ -11,7 +11,7 @@
 
 #include "radar_ndt/frontend/chirp_correction.h"
 #include "radar_ndt/frontend/power_threshold.h"
-#include "radar_ndt/pipeline/scanning_sequence.h"
+#include "radar_ndt/io/scanning_sequence.h"
 
 namespace radar_ndt {
 namespace detail {

@@ -24,15 +24,10 @@
 #include <Eigen/Core>
 #include <pcl/point_cloud.h>
 
+#include "radar_ndt/io/radar_cycle.h"
 #include "radar_ndt/point_types.h"
 
 namespace radar_ndt {
-
-/// Where a radar sits on the vehicle (vehicle frame: x forward, y left), in 2D.
-struct SensorMounting {
-  double x = 0, y = 0, yaw = 0;
-  bool valid = false;  ///< false for sensor ids no sweep of this cycle came from
-};
 
 /// Which kinematic model the Doppler fit uses.
 enum class EgoVelocityModel {

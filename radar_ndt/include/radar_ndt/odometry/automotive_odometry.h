@@ -20,8 +20,8 @@
 
 #include <Eigen/Core>
 
+#include "radar_ndt/frontend/automotive_front_end.h"
 #include "radar_ndt/frontend/probabilistic_submap.h"
-#include "radar_ndt/frontend/radar_cycle.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/odometry/local_map.h"
 #include "radar_ndt/odometry/matcher.h"

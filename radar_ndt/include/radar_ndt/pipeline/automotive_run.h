@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "radar_ndt/frontend/radar_cycle.h"
+#include "radar_ndt/frontend/automotive_front_end.h"
 #include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/nuscenes_sequence.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/odometry/automotive_odometry.h"
 #include "radar_ndt/odometry/matcher.h"
-#include "radar_ndt/pipeline/nuscenes_sequence.h"
 #include "radar_ndt/pipeline/stage_times.h"
 
 namespace radar_ndt {

@@ -13,10 +13,10 @@
 
 #include "radar_ndt/frontend/chirp_correction.h"
 #include "radar_ndt/frontend/power_threshold.h"
+#include "radar_ndt/io/scanning_sequence.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/odometry/matcher.h"
 #include "radar_ndt/odometry/scanning_odometry.h"
-#include "radar_ndt/pipeline/scanning_sequence.h"
 #include "radar_ndt/pipeline/stage_times.h"
 
 namespace radar_ndt {

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "radar_ndt/frontend/radar_cycle.h"
 #include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/radar_cycle.h"
 #include "radar_ndt/io/trajectory_io.h"
 
 namespace radar_ndt {

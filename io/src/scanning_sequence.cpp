@@ -1,4 +1,4 @@
-#include "radar_ndt/pipeline/scanning_sequence.h"
+#include "radar_ndt/io/scanning_sequence.h"
 #include "radar_ndt/io/boreas_ground_truth.h"
 #include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/oxford_ground_truth.h"
@@ -13,13 +13,11 @@
 #include <stdexcept>
 #include <sys/stat.h>
 
-#include "detail/run_timing.h"
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/se2.h"
 
 namespace radar_ndt {
 
-using detail::median;
 namespace {
 bool exists(const std::string& path) {
   struct stat st;
@@ -29,6 +27,12 @@ std::string baseName(std::string dir) {
   while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
   const auto slash = dir.find_last_of('/');
   return slash == std::string::npos ? dir : dir.substr(slash + 1);
+}
+/// The upper median (0 for no values).
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
 }
 }  // namespace
 

@@ -14,6 +14,7 @@
 #include "radar_ndt/io/polar_scan.h"
 
 namespace radar_ndt {
+namespace sim {
 
 struct RangeBand {
   double lo = 0, hi = 0;  ///< metres: a bin belongs to [lo, hi) by its centre range
@@ -78,4 +79,5 @@ struct RealismCheck {
 RealismCheck compareRealism(const ScanStatistics& simulated, const ScanStatistics& real,
                             const ScanStatisticsOptions& options, const RealismTolerance& tolerance = {});
 
+}  // namespace sim
 }  // namespace radar_ndt

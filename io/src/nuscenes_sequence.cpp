@@ -1,4 +1,4 @@
-#include "radar_ndt/pipeline/nuscenes_sequence.h"
+#include "radar_ndt/io/nuscenes_sequence.h"
 
 #include <algorithm>
 #include <cmath>

@@ -17,6 +17,7 @@
 #include "radar_ndt/se2.h"
 
 namespace radar_ndt {
+namespace apps {
 
 /// One cycle's motions, as the odometry reported them, and the ground truth.
 struct MotionNoiseSample {
@@ -73,4 +74,5 @@ struct MatchInformation {
 /// Over the matched samples (NaN figures when there are fewer than 2).
 MatchInformation matchInformation(const std::vector<MotionNoiseSample>& samples);
 
+}  // namespace apps
 }  // namespace radar_ndt

@@ -1,56 +1,21 @@
 #pragma once
-// Automotive radar cycles: one sweep of every radar, clocked by a reference radar, and the
-// front-end that turns a cycle into one cloud in the vehicle frame at the reference time: point
-// covariances, Doppler ego-velocity, moving detections removed, sweeps compensated to the
-// reference time.
+// The automotive front-end: a radar cycle (io/radar_cycle.h) into one cloud in the vehicle frame
+// at the reference time: point covariances, Doppler ego-velocity, moving detections removed,
+// sweeps compensated to the reference time.
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <pcl/point_cloud.h>
 
 #include "radar_ndt/frontend/doppler_outlier_removal.h"
 #include "radar_ndt/frontend/ego_velocity.h"
 #include "radar_ndt/frontend/point_covariance.h"
+#include "radar_ndt/io/radar_cycle.h"
 #include "radar_ndt/point_types.h"
 
 namespace radar_ndt {
-
-/// A sweep's time and channel, for planning cycles.
-struct SweepStamp {
-  std::int64_t timestamp_us = 0;
-  std::uint16_t channel = 0;
-};
-
-/// One cycle: `reference` and, per other channel that has one, its latest sweep within one period
-/// before the reference sweep (t_ref − period < t ≤ t_ref). Indices into the planned list.
-struct CyclePlan {
-  std::size_t reference = 0;
-  std::vector<std::size_t> members;  ///< includes `reference`, in channel order
-};
-
-/// Plans the cycles of a time-ordered sweep list. `period_us` ≤ 0: the median interval of the
-/// reference channel's sweeps.
-std::vector<CyclePlan> planRadarCycles(const std::vector<SweepStamp>& sweeps, std::uint16_t reference_channel,
-                                       std::int64_t period_us = 0);
-
-/// The 2D mounting (x, y, yaw) of a sensor-to-vehicle calibration.
-SensorMounting toMounting(const Eigen::Isometry3d& sensor_to_vehicle);
-
-/// One radar's sweep as read: points in the sensor frame.
-struct RadarSweepData {
-  std::int64_t timestamp_us = 0;
-  std::uint16_t sensor_id = 0;
-  Eigen::Isometry3d sensor_to_vehicle = Eigen::Isometry3d::Identity();
-  pcl::PointCloud<PointRadar> points;
-};
-
-struct RadarCycle {
-  std::int64_t timestamp_us = 0;  ///< the reference sweep's time: the cycle's pose time
-  std::vector<RadarSweepData> sweeps;
-};
 
 /// A cycle after the front-end: one cloud in the vehicle frame at the reference time, planar
 /// (z = 0: the sensors' mounting height is not an elevation measurement).

@@ -1,4 +1,4 @@
-#include "radar_ndt/evaluation/scan_statistics.h"
+#include "radar_ndt/sim/scan_statistics.h"
 
 #include <algorithm>
 #include <array>
@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 namespace radar_ndt {
+namespace sim {
 
 void ScanStatisticsOptions::validate() const {
   auto fail = [](const std::string& what) { throw std::invalid_argument("ScanStatisticsOptions: " + what); };
@@ -157,4 +158,5 @@ RealismCheck compareRealism(const ScanStatistics& sim, const ScanStatistics& rea
   return check;
 }
 
+}  // namespace sim
 }  // namespace radar_ndt

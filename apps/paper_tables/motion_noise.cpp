@@ -1,4 +1,4 @@
-#include "radar_ndt/evaluation/motion_noise.h"
+#include "motion_noise.h"
 
 #include <cmath>
 #include <limits>
@@ -7,6 +7,7 @@
 #include <Eigen/LU>
 
 namespace radar_ndt {
+namespace apps {
 
 namespace {
 Pose2 error(const Pose2& estimate, const Pose2& truth) {
@@ -147,4 +148,5 @@ MatchInformation matchInformation(const std::vector<MotionNoiseSample>& samples)
   return r;
 }
 
+}  // namespace apps
 }  // namespace radar_ndt

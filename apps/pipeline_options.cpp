@@ -1,9 +1,10 @@
 #include "pipeline_options.h"
 
 #include <cstdio>
-#include <limits>
-#include <sstream>
+#include <map>
 #include <stdexcept>
+
+#include "field_options.h"
 
 namespace radar_ndt {
 namespace apps {
@@ -11,11 +12,99 @@ namespace apps {
 namespace po = boost::program_options;
 
 namespace {
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
+
+using AutomotiveField = FieldOption<AutomotiveRunOptions>;
+using ScanningField = FieldOption<ScanningRunOptions>;
+
+const std::vector<AutomotiveField>& automotiveFields() {
+  static const std::vector<AutomotiveField> fields = fieldOptions(AutomotiveRunOptions{});
+  return fields;
 }
+const std::vector<ScanningField>& scanningFields() {
+  static const std::vector<ScanningField> fields = fieldOptions(ScanningRunOptions{});
+  return fields;
+}
+
+/// One pipeline's (or layout's) side of an option, for its help.
+struct Side {
+  std::string label;  ///< nuscenes, scanning, oxford, ...
+  const Field* field;
+  bool off_switch;
+  std::string choices, default_text, path;
+};
+
+template <typename R>
+void addSides(const std::vector<FieldOption<R>>& fields, const char* label, std::vector<std::string>& order,
+              std::map<std::string, std::vector<Side>>& sides) {
+  for (const auto& f : fields) {
+    if (!sides.count(f.option)) order.push_back(f.option);
+    sides[f.option].push_back(
+        {f.scope.empty() ? label : f.scope, &f.field, f.off_switch, f.choices, f.default_text, f.path});
+  }
+}
+
+/// "nuscenes, scanning: NDT grid size g (m), default 3 (nuscenes) or 3.75 (scanning)": the sides
+/// that say the same share one sentence.
+std::string helpOf(const std::vector<Side>& sides) {
+  std::string out;
+  std::vector<bool> done(sides.size(), false);
+  for (std::size_t i = 0; i < sides.size(); ++i) {
+    if (done[i]) continue;
+    const Field& f = *sides[i].field;
+    const char* text = sides[i].off_switch ? f.off_switch_help : f.help;
+    std::vector<std::size_t> same;
+    for (std::size_t j = i; j < sides.size(); ++j) {
+      const Field& g = *sides[j].field;
+      if (!done[j] && std::string(sides[j].off_switch ? g.off_switch_help : g.help) == text &&
+          std::string(g.unit_text) == f.unit_text && sides[j].choices == sides[i].choices) {
+        same.push_back(j);
+        done[j] = true;
+      }
+    }
+    std::string labels, defaults;
+    bool one_default = true;
+    for (const std::size_t j : same) {
+      labels += (labels.empty() ? "" : ", ") + sides[j].label;
+      one_default = one_default && sides[j].default_text == sides[same[0]].default_text;
+    }
+    for (const std::size_t j : same)
+      defaults += (defaults.empty() ? "" : " or ") + sides[j].default_text + " (" + sides[j].label + ")";
+    std::string sentence = labels + ": " + text;
+    if (*f.unit_text) sentence += " (" + std::string(f.unit_text) + ")";
+    if (!sides[i].choices.empty()) sentence += ": " + sides[i].choices;
+    if (!sides[i].off_switch && !sides[i].default_text.empty())
+      sentence += ", default " + (one_default ? sides[i].default_text : defaults);
+    out += (out.empty() ? "" : "; ") + sentence;
+  }
+  return out;
+}
+
+/// Sets the options the command line gives over `o`: those of `scope`'s layout, and those of no
+/// layout.
+template <typename R>
+void applyGiven(const po::variables_map& vm, const std::vector<FieldOption<R>>& fields, const std::string& scope,
+                R& o) {
+  for (const auto& f : fields) {
+    if (!f.scope.empty() && f.scope != scope) continue;
+    if (f.off_switch) {
+      if (vm[f.option].template as<bool>()) f.set(o, "");
+    } else if (vm.count(f.option)) {
+      f.set(o, vm[f.option].template as<std::string>());
+    }
+  }
+}
+
+/// The pipeline options, in the order --help lists them, with each one's sides.
+std::vector<std::pair<std::string, std::vector<Side>>> pipelineSides() {
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<Side>> sides;
+  addSides(automotiveFields(), "nuscenes", order, sides);
+  addSides(scanningFields(), "scanning", order, sides);
+  std::vector<std::pair<std::string, std::vector<Side>>> out;
+  for (const std::string& name : order) out.emplace_back(name, sides[name]);
+  return out;
+}
+
 }  // namespace
 
 Pipeline pipelineOf(const std::string& format) {
@@ -24,14 +113,44 @@ Pipeline pipelineOf(const std::string& format) {
   throw std::invalid_argument("--format " + format + " is not supported (nuscenes, oxford, radiate, boreas)");
 }
 
+std::string pipelineOptionsMarkdown() {
+  std::string out = "| option | field | pipeline | meaning | default |\n|---|---|---|---|---|\n";
+  for (const auto& [name, sides] : pipelineSides()) {
+    // One row for the sides that set the same field in the same words.
+    std::vector<bool> done(sides.size(), false);
+    for (std::size_t i = 0; i < sides.size(); ++i) {
+      if (done[i]) continue;
+      const Side& s = sides[i];
+      const Field& f = *s.field;
+      std::string meaning = s.off_switch ? f.off_switch_help : f.help;
+      if (*f.unit_text) meaning += " (" + std::string(f.unit_text) + ")";
+      if (!s.choices.empty()) meaning += ": " + s.choices;
+      std::string labels, defaults;
+      bool one_default = true;
+      for (std::size_t j = i; j < sides.size(); ++j)
+        if (!done[j] && sides[j].path == s.path && sides[j].field->help == f.help) {
+          done[j] = true;
+          labels += (labels.empty() ? "" : ", ") + sides[j].label;
+          one_default = one_default && sides[j].default_text == s.default_text;
+          if (!s.off_switch && !sides[j].default_text.empty())
+            defaults += (defaults.empty() ? "" : ", ") + sides[j].default_text + " (" + sides[j].label + ")";
+        }
+      if (one_default && !defaults.empty()) defaults = s.default_text;
+      std::string escaped;
+      for (const char c : meaning) escaped += c == '|' ? std::string("\\|") : std::string(1, c);
+      out += "| `--" + name + "` | `" + s.path + "`" + (s.off_switch ? " = false" : "") + " | " + labels + " | " +
+             escaped + " | " + defaults + " |\n";
+    }
+  }
+  return out;
+}
+
 void addPipelineOptions(po::options_description& opts) {
-  // Every default in the help is the library's own.
-  const AutomotiveRunOptions a;
-  const ScanningRunOptions s;
   // clang-format off
   opts.add_options()
     ("format", po::value<std::string>()->required(),
-     "dataset layout: nuscenes (automotive) | oxford | radiate | boreas (scanning)")
+     "dataset layout: nuscenes (automotive) | oxford | radiate | boreas (scanning); boreas scans with chirp types "
+     "take --threshold and --power-shift 0.43 by default")
     ("dataroot", po::value<std::string>(), "nuscenes: the dataroot (holds v1.0-*/, samples/, sweeps/)")
     ("sequence", po::value<std::vector<std::string>>()->multitoken(),
      "oxford: a directory with radar.timestamps, radar/<stamp>.png and optionally "
@@ -40,163 +159,36 @@ void addPipelineOptions(po::options_description& opts) {
     ("version", po::value<std::string>()->default_value(""),
      "nuscenes: table folder under dataroot (default: the one holding sensor.json)")
     ("scene", po::value<std::string>()->default_value("all"),
-     "nuscenes: scene name, or 'all' (each scene, then the mean)")
-    ("method", po::value<std::string>()->default_value("pw-ndt"),
-     "pw-ndt (ours) | pcl-ndt | pcl-icp | doppler (Kellner's ego-velocity "
-     "integration, nuscenes) | rapp-ndt (Doppler-weighted grid NDT, nuscenes)")
-    ("grid", po::value<double>(),
-     ("NDT grid size g (m), default " + num(a.odometry.grid) + " (nuscenes) or " + num(s.odometry.grid) +
-     " (scanning); pcl-icp: max correspondence distance").c_str())
-    ("no-gate", po::bool_switch(),
-     "accept every converged match: no motion-prior (nor, nuscenes, Doppler chi-square) check (ablation)")
-    ("max-cycles", po::value<std::size_t>(), "stop after this many cycles per scene, or scans (default: all)")
-    ("max-range", po::value<double>(),
-     ("nuscenes: drop detections beyond this range (m), default " + num(a.sequence.filter.max_range) +
-     "; scanning: front-end range limit, default " + num(s.front_end.max_range)).c_str())
-    ("mode", po::value<std::string>(),
-     (std::string("nuscenes: cycle-to-map (the newest cycle to a local map of earlier cycles, fused with the "
-     "Doppler motion) | paper (submap to submap, not fused: the paper's scheme); default ") +
-     toString(a.odometry.mode)).c_str())
-    ("submap", po::value<std::size_t>(),
-     ("nuscenes, paper mode: N, radar cycles per submap (default " +
-      num(static_cast<double>(a.odometry.submap_size)) + ")").c_str())
-    ("map-cycles", po::value<std::size_t>(), ("nuscenes, cycle-to-map: M, earlier cycles in the local map (default " +
-                                              num(static_cast<double>(a.odometry.map_cycles)) + ")").c_str())
-    ("no-fusion", po::bool_switch(),
-     "nuscenes: the accepted match is the motion, not fused with the Doppler motion (ablation; paper mode never fuses)")
-    ("covariance", po::value<std::string>(),
-     "nuscenes: point covariance: polar (ARS408 range/azimuth spec, default) | rms (reported x_rms/y_rms)")
-    ("reference-channel", po::value<std::string>(),
-     "nuscenes: radar channel that clocks the cycles (default: the forward-facing one)")
-    ("channels", po::value<std::string>(),
-     "nuscenes: comma-separated radar channels to use (default: every radar in sensor.json); one "
-     "channel runs a one-radar car")
-    ("doppler-threshold", po::value<double>(),
-     ("nuscenes: ego-velocity RANSAC inlier and moving-detection threshold on |Doppler − "
-     "predicted| (m/s), default " + num(a.front_end.ego_velocity.inlier_threshold)).c_str())
-    ("lateral-sigma", po::value<double>(),
-     ("nuscenes: ego-velocity: σ (m/s) of the prior vy = 0 at the vehicle origin (nuScenes: the rear "
-     "axle), default " + num(a.front_end.ego_velocity.lateral_sigma) + "; 0: none, the plain 3-DoF fit").c_str())
-    ("ego-model", po::value<std::string>(),
-     "nuscenes: ego-velocity model: auto (default: full when radars sit at two places or more, else "
-     "nonholonomic) | full (vx, vy, yaw rate) | nonholonomic (vy = 0: one radar suffices)")
-    ("no-time-compensation", po::bool_switch(),
-     "nuscenes: do not move each radar's sweep to the reference time (ablation)")
-    ("keep-moving", po::bool_switch(),
-     "nuscenes: do not remove detections that disagree with the Doppler ego-velocity (ablation)")
-    ("start", po::value<std::size_t>(), "scanning: first scan used (default 0)")
-    ("threshold", po::value<double>(),
-     ("scanning: power threshold (0..1) of the front-end, default " + num(s.front_end.threshold) + " (boreas scans "
-     "with chirp types: " + num(kBoreasChirpThreshold) + ")").c_str())
-    ("power-shift", po::value<double>(), ("scanning, pw-ndt: power shift s of the weights max(p - s, 0), default " +
-                                          num(s.odometry.power_shift) + " (boreas scans with chirp types: " +
-                                          num(kBoreasChirpThreshold) + "); 0 turns it off").c_str())
-    ("no-source-shift", po::bool_switch(),
-     "scanning, pw-ndt: shift the cells' weights (eq. 1) only; the matching weights are "
-     "p·exp(-(σx+σy)/2) (ablation; the paper shifts both)")
-    ("points", po::value<std::string>(),
-     "scanning: cartesian (the paper's image, default) | polar (one point per cell)")
-    ("pixel", po::value<double>(),
-     ("scanning, cartesian: metres per pixel, default " + num(s.front_end.cartesian_resolution)).c_str())
-    ("bin-size", po::value<double>(),
-     ("oxford: range bin size (m), default " + num(s.sequence.oxford.convention.range_resolution) +
-     " (the dataset's figure; its SDK uses 0.0432); boreas: default by the scan's date as the SDK decides "
-     "(" + num(kBoreasBinBeforeUpgrade) + " before 2021-09-21, " + num(kBoreasBinAfterUpgrade) + " after)").c_str())
-    ("bins", po::value<int>(),
-     ("oxford: range bins a PNG row must have after its 11 metadata bytes, default " +
-     num(s.sequence.oxford.expected_bins) + " (the CTS350-X's); 0 accepts any width; boreas: default any").c_str())
-    ("keyframe-distance", po::value<double>(),
-     ("scanning: match to a keyframe replaced after this many metres (or " +
-     num(s.odometry.keyframes.rotation) + " rad, or a failed match), default " +
-     num(s.odometry.keyframes.distance) + "; 0: scan to scan as the paper").c_str())
-    ("no-chirp-correction", po::bool_switch(),
-     "scanning: leave the up/down-chirp range shifts of scans with chirp types (boreas, 2024) as they are")
-    ("no-motion-compensation", po::bool_switch(),
-     "scanning: do not move points to the scan's reference time (ablation)")
-    ("compensation", po::value<std::string>(),
-     ("scanning: how the source's sweep is de-skewed: rounds (with the velocity of the step before, "
-     "re-estimated between matches) or joint (inside the match, by the motion being estimated; "
-     "pw-ndt only), default " + std::string(toString(s.odometry.compensation.mode))).c_str())
-    ("compensation-rounds", po::value<int>(), ("scanning: matches per scan at most, the velocity of the points' motion "
-                                               "compensation re-estimated between them, default " +
-                                               std::to_string(s.odometry.compensation.max_rounds)).c_str())
-    ("compensation-tolerance", po::value<double>(),
-     ("scanning: another compensation round only when the match moved the "
-     "velocity by more (m/s; yaw rate x 10 m), default " +
-     num(s.odometry.compensation.tolerance)).c_str())
-    ("threads", po::value<int>(), "threads: the next scans (cycles) read and through the front-end on the others "
-                                  "while one is matched, several nuScenes scenes side by side (outputs identical "
-                                  "for any number), default 0: every core; 1: one thread")
-    ("no-prefetch", po::bool_switch(), "the same as --threads 1")
-    ("quiet,q", po::bool_switch(), "no progress bar");
+     "nuscenes: scene name, or 'all' (each scene, then the mean)");
   // clang-format on
+  // Every setting of the run options the field tables put on the command line, its help and
+  // defaults from the tables and the library's defaults.
+  for (const auto& [name, s] : pipelineSides()) {
+    const std::string help = helpOf(s);
+    if (s.front().off_switch)
+      opts.add_options()(name.c_str(), po::bool_switch(), help.c_str());
+    else
+      opts.add_options()(name.c_str(), po::value<std::string>(), help.c_str());
+  }
+  opts.add_options()("no-prefetch", po::bool_switch(), "the same as --threads 1")("quiet,q", po::bool_switch(),
+                                                                                  "no progress bar");
 }
 
 AutomotiveRunOptions automotiveOptions(const po::variables_map& vm) {
-  auto has = [&](const char* name) { return vm.count(name) > 0; };
   AutomotiveRunOptions o;
-  if (has("reference-channel")) o.sequence.reference_channel = vm["reference-channel"].as<std::string>();
-  if (has("channels")) {
-    std::stringstream list(vm["channels"].as<std::string>());  // "A,B" or "A, B"
-    for (std::string name; std::getline(list, name, ',');) {
-      const std::size_t b = name.find_first_not_of(' ');
-      if (b != std::string::npos) o.sequence.channels.push_back(name.substr(b, name.find_last_not_of(' ') - b + 1));
-    }
-  }
-  if (has("max-range")) o.sequence.filter.max_range = vm["max-range"].as<double>();
-  if (has("covariance")) o.front_end.covariance_model = parsePointCovarianceModel(vm["covariance"].as<std::string>());
-  o.front_end.compensate_time = !vm["no-time-compensation"].as<bool>();
-  if (has("doppler-threshold")) o.front_end.ego_velocity.inlier_threshold = vm["doppler-threshold"].as<double>();
-  if (has("lateral-sigma")) o.front_end.ego_velocity.lateral_sigma = vm["lateral-sigma"].as<double>();
-  if (has("ego-model")) o.front_end.ego_velocity.model = parseEgoVelocityModel(vm["ego-model"].as<std::string>());
-  o.front_end.remove_moving = !vm["keep-moving"].as<bool>();
-  if (has("mode") && parseAutomotiveMatchMode(vm["mode"].as<std::string>()) == AutomotiveMatchMode::SubmapToSubmap)
+  applyGiven(vm, automotiveFields(), "", o);
+  // The paper's scheme is submap to submap, not fused: the mode chooses both.
+  if (vm.count("mode") && o.odometry.mode == AutomotiveMatchMode::SubmapToSubmap)
     o.odometry = o.odometry.paper(o.odometry.submap_size);
-  if (has("submap")) o.odometry.submap_size = vm["submap"].as<std::size_t>();
-  if (has("map-cycles")) o.odometry.map_cycles = vm["map-cycles"].as<std::size_t>();
-  if (vm["no-fusion"].as<bool>()) o.odometry.fuse_doppler = false;
-  o.odometry.gate.enabled = !vm["no-gate"].as<bool>();
-  if (has("grid")) o.odometry.grid = vm["grid"].as<double>();
-  if (has("max-cycles")) o.max_cycles = vm["max-cycles"].as<std::size_t>();
-  if (has("threads")) o.threads = vm["threads"].as<int>();
   if (vm["no-prefetch"].as<bool>()) o.threads = 1;
-  o = withMethod(o, parseMethod(vm["method"].as<std::string>()));
+  o = withMethod(o, o.matcher.method);
   o.validate();
   return o;
 }
 
 ScanningRunOptions scanningOptions(const po::variables_map& vm, const ScanningRunOptions& base) {
-  auto has = [&](const char* name) { return vm.count(name) > 0; };
   ScanningRunOptions o = base;
-  o.matcher.method = parseMethod(vm["method"].as<std::string>());
-  auto& od = o.odometry;
-  if (has("grid")) od.grid = vm["grid"].as<double>();
-  if (has("power-shift")) od.power_shift = static_cast<float>(vm["power-shift"].as<double>());
-  od.compensation.enabled = !vm["no-motion-compensation"].as<bool>();
-  if (has("compensation")) od.compensation.mode = parseCompensationMode(vm["compensation"].as<std::string>());
-  if (has("compensation-rounds")) od.compensation.max_rounds = vm["compensation-rounds"].as<int>();
-  if (has("compensation-tolerance")) od.compensation.tolerance = vm["compensation-tolerance"].as<double>();
-  od.shift_source_weights = !vm["no-source-shift"].as<bool>();
-  if (vm["no-chirp-correction"].as<bool>()) o.chirp.enabled = false;
-  if (has("keyframe-distance")) od.keyframes.distance = vm["keyframe-distance"].as<double>();
-  od.gate.enabled = !vm["no-gate"].as<bool>();
-  if (has("threshold")) o.front_end.threshold = static_cast<float>(vm["threshold"].as<double>());
-  if (has("points")) {
-    const std::string points = vm["points"].as<std::string>();
-    if (points != "cartesian" && points != "polar")
-      throw std::invalid_argument("--points must be cartesian or polar, not '" + points + "'");
-    o.front_end.cartesian = points == "cartesian";
-  }
-  if (has("pixel")) o.front_end.cartesian_resolution = vm["pixel"].as<double>();
-  if (has("max-range")) o.front_end.max_range = vm["max-range"].as<double>();
-  const bool boreas = vm["format"].as<std::string>() == "boreas";
-  if (has("bin-size"))
-    (boreas ? o.sequence.boreas.range_resolution : o.sequence.oxford.convention.range_resolution) =
-        vm["bin-size"].as<double>();
-  if (has("bins")) (boreas ? o.sequence.boreas.expected_bins : o.sequence.oxford.expected_bins) = vm["bins"].as<int>();
-  if (has("start")) o.start = vm["start"].as<std::size_t>();
-  if (has("max-cycles")) o.max_scans = vm["max-cycles"].as<std::size_t>();
-  if (has("threads")) o.threads = vm["threads"].as<int>();
+  applyGiven(vm, scanningFields(), vm["format"].as<std::string>(), o);
   if (vm["no-prefetch"].as<bool>()) o.threads = 1;
   o.validate();
   return o;

@@ -1,8 +1,9 @@
 #pragma once
-// The pipeline options radar_odometry and radar_paper_tables share: one command-line option per
-// setting of the library's run options (AutomotiveRunOptions, ScanningRunOptions), applied over the
-// library's defaults only when given, so the defaults and their range checks live in one place,
-// the library. No algorithm lives here.
+// The pipeline options radar_odometry, radar_paper_tables and radar_batch share: one command-line
+// option per field the library's run options' tables name (AutomotiveRunOptions,
+// ScanningRunOptions; field_options.h), applied over the library's defaults only when given, so a
+// setting's name, help, range and default live in one place, its field table. No algorithm lives
+// here.
 
 #include <string>
 #include <vector>
@@ -21,15 +22,20 @@ enum class Pipeline { Automotive, Scanning };
 /// "nuscenes" (automotive) or "oxford" / "radiate" / "boreas" (scanning); throws std::invalid_argument.
 Pipeline pipelineOf(const std::string& format);
 
-/// Adds --format, --dataroot, --sequence, --version, --scene, --method and every pipeline
-/// setting (their help gives the library's defaults), and --quiet.
+/// Adds --format, --dataroot, --sequence, --version, --scene, every pipeline setting the field
+/// tables name (their help gives the library's defaults), --no-prefetch and --quiet.
 void addPipelineOptions(boost::program_options::options_description& options);
+
+/// Every pipeline option as a markdown table: option, the field it sets, the pipeline or layout,
+/// its meaning and default (radar_odometry --list-options; docs/apps.md holds it).
+std::string pipelineOptionsMarkdown();
 
 /// The automotive run options the command line asks for (nuscenes); throws std::invalid_argument
 /// naming a bad value.
 AutomotiveRunOptions automotiveOptions(const boost::program_options::variables_map& vm);
 /// The scanning run options the command line asks for (oxford, radiate, boreas), over `base` (the
-/// library's defaults for the sequence's radar: defaultScanningOptions).
+/// library's defaults for the sequence's radar: defaultScanningOptions); a layout's own settings
+/// (--bin-size, --bins) apply to --format's.
 ScanningRunOptions scanningOptions(const boost::program_options::variables_map& vm,
                                    const ScanningRunOptions& base = {});
 

@@ -153,7 +153,7 @@ int plan(int argc, char** argv) {
   if (vm.count("sequences")) r.sequences = commaList(vm["sequences"].as<std::string>());
   if (vm.count("glob")) r.glob = vm["glob"].as<std::string>();
   r.methods = commaList(vm["method"].as<std::string>());
-  for (const auto& m : r.methods) parseMethod(m);
+  for (const auto& m : r.methods) findMatcher(m);
   if (vm.count("set"))
     for (const auto& s : vm["set"].as<std::vector<std::string>>()) r.settings.push_back(parseSettingAxis(s));
   r.odometry_app = vm.count("odometry-app") ? fs::absolute(vm["odometry-app"].as<std::string>()).string()
@@ -202,6 +202,41 @@ po::options_description runOptions() {
   return o;
 }
 
+/// The pending tasks as a Slurm job array (--engine slurm); true when it waited for the job to end
+/// (the states are worth printing), false for a dry run or a job left running.
+bool runOnSlurm(const po::variables_map& vm, const std::string& dir, const std::vector<const Task*>& pending,
+                const std::string& ids, int threads) {
+  fs::create_directories(fs::path(dir) / "slurm" / "logs");
+  std::size_t n = 1;
+  while (fs::exists(fs::path(dir) / "slurm" / ("pending-" + std::to_string(n) + ".txt"))) ++n;
+  const std::string ids_file = (fs::path(dir) / "slurm" / ("pending-" + std::to_string(n) + ".txt")).string();
+  SlurmOptions so;
+  so.throttle = vm["throttle"].as<int>();
+  so.time = vm["time"].as<std::string>();
+  so.memory = vm["mem"].as<std::string>();
+  so.cpus_per_task = threads;
+  so.partition = vm["partition"].as<std::string>();
+  so.account = vm["account"].as<std::string>();
+  const std::string script = slurmScript(so, selfPath(), dir, ids_file, pending.size());
+  if (vm["dry-run"].as<bool>()) {
+    std::cout << script;
+    return false;
+  }
+  writeFileAtomically(ids_file, ids);
+  const std::string script_file = (fs::path(dir) / "slurm" / ("array-" + std::to_string(n) + ".sh")).string();
+  writeFileAtomically(script_file, script);
+  int code = 0;
+  const std::string submitted = capture("sbatch --parsable " + shellQuote(script_file), &code);
+  const std::string job = submitted.substr(0, submitted.find(';'));  // "ID" or "ID;cluster"
+  if (code != 0 || job.empty() || job.find_first_not_of("0123456789") != std::string::npos)
+    throw std::runtime_error("sbatch did not submit " + script_file + " (exit " + std::to_string(code) +
+                             "): " + submitted);
+  std::printf("Submitted batch job %s\n", job.c_str());
+  if (!vm["wait"].as<bool>()) return false;
+  waitForJob(job);
+  return true;
+}
+
 int run(int argc, char** argv) {
   const po::options_description o = runOptions();
   po::positional_options_description pos;
@@ -246,34 +281,7 @@ int run(int argc, char** argv) {
       throw std::runtime_error("GNU parallel did not run (exit " + std::to_string(code) +
                                "): is it installed (Debian: parallel)?");
   } else if (engine == "slurm") {
-    fs::create_directories(fs::path(dir) / "slurm" / "logs");
-    std::size_t n = 1;
-    while (fs::exists(fs::path(dir) / "slurm" / ("pending-" + std::to_string(n) + ".txt"))) ++n;
-    const std::string ids_file = (fs::path(dir) / "slurm" / ("pending-" + std::to_string(n) + ".txt")).string();
-    SlurmOptions so;
-    so.throttle = vm["throttle"].as<int>();
-    so.time = vm["time"].as<std::string>();
-    so.memory = vm["mem"].as<std::string>();
-    so.cpus_per_task = threads;
-    so.partition = vm["partition"].as<std::string>();
-    so.account = vm["account"].as<std::string>();
-    const std::string script = slurmScript(so, selfPath(), dir, ids_file, pending.size());
-    if (vm["dry-run"].as<bool>()) {
-      std::cout << script;
-      return 0;
-    }
-    writeFileAtomically(ids_file, ids);
-    const std::string script_file = (fs::path(dir) / "slurm" / ("array-" + std::to_string(n) + ".sh")).string();
-    writeFileAtomically(script_file, script);
-    int code = 0;
-    const std::string submitted = capture("sbatch --parsable " + shellQuote(script_file), &code);
-    const std::string job = submitted.substr(0, submitted.find(';'));  // "ID" or "ID;cluster"
-    if (code != 0 || job.empty() || job.find_first_not_of("0123456789") != std::string::npos)
-      throw std::runtime_error("sbatch did not submit " + script_file + " (exit " + std::to_string(code) +
-                               "): " + submitted);
-    std::printf("Submitted batch job %s\n", job.c_str());
-    if (!vm["wait"].as<bool>()) return 0;
-    waitForJob(job);
+    if (!runOnSlurm(vm, dir, pending, ids, threads)) return 0;
   } else {
     throw std::invalid_argument("--engine must be parallel, slurm or serial, not '" + engine + "'");
   }

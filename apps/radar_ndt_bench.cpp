@@ -26,6 +26,7 @@
 #include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/odometry/matcher.h"
+#include "radar_ndt/odometry/matcher_registry.h"
 #include "radar_ndt/registration/weighted_ndt_2d.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/sim/synthetic_scan.h"
@@ -101,10 +102,17 @@ int benchNuScenes(const std::string& dataroot, std::size_t stride, bool json) {
     std::printf(
         "radar_ndt_bench --nuscenes: %zu real submap pairs (N = 3), Doppler initial guess\n%-10s %10s %14s %14s\n",
         pairs.size(), "method", "ms median", "trans err m", "rot err deg");
-  for (const radar_ndt::Method m : {radar_ndt::Method::PwNdt, radar_ndt::Method::PclNdt, radar_ndt::Method::PclIcp}) {
+  // Every registered matcher that matches and needs nothing beyond the submaps (Rapp's Doppler
+  // weights are the odometry's), at the automotive defaults.
+  for (const std::string& m : matcherNames()) {
+    const MatcherUses& uses = findMatcher(m).uses;
+    if (uses.needs_doppler || uses.doppler_weights) continue;
+    MatcherOptions options = MatcherOptions::forAutomotive();
+    options.method = m;
+    RadarRegistration::Ptr reg = makeMatcher(options).registrationPtr();
+    if (!reg) continue;
     std::vector<double> ms;
     double et = 0, er = 0;
-    RadarRegistration::Ptr reg = makeMatcher(m, 3.0).registrationPtr();
     pcl::PointCloud<PointRadar> out;
     for (const auto& p : pairs) {
       const auto t0 = std::chrono::steady_clock::now();
@@ -118,10 +126,10 @@ int benchNuScenes(const std::string& dataroot, std::size_t stride, bool json) {
     }
     std::nth_element(ms.begin(), ms.begin() + static_cast<std::ptrdiff_t>(ms.size() / 2), ms.end());
     const double n = static_cast<double>(std::max<std::size_t>(pairs.size(), 1));
-    j["methods"][toString(m)] = {
+    j["methods"][m] = {
         {"ms_median", ms.empty() ? 0.0 : ms[ms.size() / 2]}, {"trans_err_m", et / n}, {"rot_err_deg", er / n}};
     if (!json)
-      std::printf("%-10s %10.3f %14.4f %14.4f\n", toString(m), ms.empty() ? 0.0 : ms[ms.size() / 2], et / n, er / n);
+      std::printf("%-10s %10.3f %14.4f %14.4f\n", m.c_str(), ms.empty() ? 0.0 : ms[ms.size() / 2], et / n, er / n);
   }
   if (json) std::cout << j.dump(2) << std::endl;
   return 0;
@@ -298,7 +306,7 @@ int main(int argc, char** argv) {
       methods.push_back({"pcl::IterativeClosestPoint", buf, [=]() -> Reg::Ptr {
                            auto r = pcl::make_shared<pcl::IterativeClosestPoint<PointT, PointT>>();
                            r->setMaxCorrespondenceDistance(icp_dist);
-                           r->setMaximumIterations(50);
+                           r->setMaximumIterations(MatcherOptions().icp_max_iterations);
                            return r;
                          }});
     }

@@ -55,8 +55,7 @@ json finish(const Run& r, const std::string& name, const Outputs& o, std::option
   if (o.eval) {
     const PosePairs pairs = associate(r.ground_truth, r.estimate);
     report = evaluate(pairs, o.metric.empty() ? defaultMetrics(r) : parseMetrics(o.metric));
-    if (!o.plot.empty())
-      writeEvaluationSvg(o.fileFor(o.plot, name), pairs, *report, name + " (" + toString(r.method) + ")");
+    if (!o.plot.empty()) writeEvaluationSvg(o.fileFor(o.plot, name), pairs, *report, name + " (" + r.method + ")");
   }
   // Beside the method, its own prior: each step's initial guess judged as its match is.
   const FrameError prior = o.eval ? priorFrameError(r.steps, r.ground_truth) : FrameError{};
@@ -124,7 +123,7 @@ int runAutomotive(const po::variables_map& vm, const Outputs& base) {
 
 int runScanning(const po::variables_map& vm, const Outputs& base) {
   const std::vector<std::string> dirs = apps::sequenceDirs(vm);
-  const ScanFormat format = parseScanFormat(vm["format"].as<std::string>());
+  const ScanFormat format = parseEnum<ScanFormat>(vm["format"].as<std::string>());
   Outputs o = base;
   o.many = dirs.size() > 1;
   if (o.many && !o.map.empty()) throw std::invalid_argument("--map takes one --sequence");
@@ -158,9 +157,7 @@ int runScanning(const po::variables_map& vm, const Outputs& base) {
   return reportFailures(o);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+po::options_description odometryOptions() {
   po::options_description opts("Options");
   opts.add_options()("help,h", "print this help and exit");
   apps::addPipelineOptions(opts);
@@ -182,32 +179,46 @@ int main(int argc, char** argv) {
      "runs: {\"scenes\"|\"sequences\": [...], \"mean\": {\"metrics\": ...}})")
     ("plot", po::value<std::string>(), "with --eval: SVG of estimate vs ground truth (one per scene or sequence)")
     ("map", po::value<std::string>(),
-     "scanning: write a top-view PNG of all scans at their estimated poses (0.2 m/pixel; one --sequence)");
+     "scanning: write a top-view PNG of all scans at their estimated poses (0.2 m/pixel; one --sequence)")
+    ("list-options", "print every pipeline option as a markdown table (the field it sets, its pipeline, meaning "
+     "and default), then exit");
   // clang-format on
-  const std::string usage =
-      "Usage: radar_odometry --format nuscenes --dataroot DIR [--scene NAME|all] [--method "
-      "pw-ndt|pcl-ndt|pcl-icp|doppler|rapp-ndt]\n"
-      "                      [--mode cycle-to-map|paper] [--map-cycles M] [--submap N] [--grid G] [--out traj.txt] "
-      "[--eval]\n"
-      "                      [--metric 1m|kitti|frame|ate|all] [--json] [--plot out.svg]\n"
-      "       radar_odometry --format oxford|radiate|boreas --sequence DIR... [--method pw-ndt|pcl-ndt|pcl-icp] "
-      "[--grid G]\n"
-      "                      [--threshold T] [--power-shift S] [--points cartesian|polar] [--out traj.txt] [--eval] "
-      "[--json]\n"
-      "                      [--plot out.svg] [--map top.png]\n"
-      "nuscenes: one pose per radar cycle (one sweep of every radar, clocked by the reference radar), the\n"
-      "vehicle frame at the reference sweep's timestamp; each cycle matched to a local map of the M cycles before it\n"
-      "from the Doppler ego-motion and fused with it (paper mode: submap of N cycles to the last submap, not fused).\n"
-      "Unreadable sweeps are reported and left out of their cycle.\n"
-      "oxford|radiate|boreas: one pose per scan, the vehicle at the scan's timestamp (oxford: the first azimuth's;\n"
-      "boreas: the middle one's, as the dataset names its scans); each scan\n"
-      "motion-compensated and matched to the last keyframe from a constant-velocity guess, failures retried with\n"
-      "the grid enlarged, then with s halved. Unreadable scans are reported and bridged with the motion model;\n"
-      "bad index lines are reported and left out.\n"
-      "A run whose steps were mostly not matched (too few points, fallbacks, unreadable files) says so in its\n"
-      "last line and exits with code 1. Every option: docs/apps.md.";
+  return opts;
+}
+
+const char* const kUsage =
+    "Usage: radar_odometry --format nuscenes --dataroot DIR [--scene NAME|all] [--method "
+    "pw-ndt|pcl-ndt|pcl-icp|doppler|rapp-ndt]\n"
+    "                      [--mode cycle-to-map|paper] [--map-cycles M] [--submap N] [--grid G] [--out traj.txt] "
+    "[--eval]\n"
+    "                      [--metric 1m|kitti|frame|ate|all] [--json] [--plot out.svg]\n"
+    "       radar_odometry --format oxford|radiate|boreas --sequence DIR... [--method pw-ndt|pcl-ndt|pcl-icp] "
+    "[--grid G]\n"
+    "                      [--threshold T] [--power-shift S] [--points cartesian|polar] [--out traj.txt] [--eval] "
+    "[--json]\n"
+    "                      [--plot out.svg] [--map top.png]\n"
+    "nuscenes: one pose per radar cycle (one sweep of every radar, clocked by the reference radar), the\n"
+    "vehicle frame at the reference sweep's timestamp; each cycle matched to a local map of the M cycles before it\n"
+    "from the Doppler ego-motion and fused with it (paper mode: submap of N cycles to the last submap, not fused).\n"
+    "Unreadable sweeps are reported and left out of their cycle.\n"
+    "oxford|radiate|boreas: one pose per scan, the vehicle at the scan's timestamp (oxford: the first azimuth's;\n"
+    "boreas: the middle one's, as the dataset names its scans); each scan\n"
+    "motion-compensated and matched to the last keyframe from a constant-velocity guess, failures retried with\n"
+    "the grid enlarged, then with s halved. Unreadable scans are reported and bridged with the motion model;\n"
+    "bad index lines are reported and left out.\n"
+    "A run whose steps were mostly not matched (too few points, fallbacks, unreadable files) says so in its\n"
+    "last line and exits with code 1. Every option: docs/apps.md.";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc == 2 && std::string(argv[1]) == "--list-options") {
+    std::printf("%s", apps::pipelineOptionsMarkdown().c_str());
+    return 0;
+  }
+  const po::options_description opts = odometryOptions();
   po::variables_map vm;
-  const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
+  const int rc = apps::parseCommandLine(argc, argv, opts, kUsage, vm);
   if (rc >= 0) return rc;
 
   return apps::runGuarded("radar_odometry", [&]() {

@@ -32,7 +32,7 @@ namespace {
 
 /// The command line over the defaults for the first sequence's radar (defaultScanningOptions).
 ScanningRunOptions scanningTableOptions(const po::variables_map& vm) {
-  const ScanningSequence first(apps::sequenceDirs(vm).front(), parseScanFormat(vm["format"].as<std::string>()),
+  const ScanningSequence first(apps::sequenceDirs(vm).front(), parseEnum<ScanFormat>(vm["format"].as<std::string>()),
                                apps::scanningOptions(vm).sequence);
   return apps::scanningOptions(vm, defaultScanningOptions(first));
 }
@@ -82,32 +82,32 @@ int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const st
   char label[96];
   // The comparison: the same thresholded scans, guesses and failure handling for every matcher.
   rows.push_back(run("comparison", "ours (pw-ndt)", base));
-  for (const Method m : {Method::PclNdt, Method::PclIcp}) {
+  for (const std::string m : {"pcl-ndt", "pcl-icp"}) {
     ScanningRunOptions o = base;
     o.matcher.method = m;
-    std::snprintf(label, sizeof label, "%s, documented (%s %.2f m)", toString(m),
-                  m == Method::PclNdt ? "resolution" : "max corr.", o.odometry.grid);
+    std::snprintf(label, sizeof label, "%s, documented (%s %.2f m)", m.c_str(),
+                  m == "pcl-ndt" ? "resolution" : "max corr.", o.matcher.grid);
     rows.push_back(run("comparison", label, o));
     const std::size_t documented = rows.size() - 1;
     // The sweep: the grid (NDT resolution / ICP correspondence distance) scored on the first
     // sequence's first scans by frame-to-frame translation error; the best runs everywhere.
-    double best_err = std::numeric_limits<double>::infinity(), best_grid = o.odometry.grid;
+    double best_err = std::numeric_limits<double>::infinity(), best_grid = o.matcher.grid;
     for (const double g : {2.5, 3.75, 5.0}) {
-      o.odometry.grid = g;
-      std::snprintf(label, sizeof label, "%s sweep %.2f", toString(m), g);
+      o.matcher.grid = g;
+      std::snprintf(label, sizeof label, "%s sweep %.2f", m.c_str(), g);
       const Row sweep = run("sweep", label, o, sweep_scans, 1);
       if (sweep.frame_t[0] < best_err) {
         best_err = sweep.frame_t[0];
         best_grid = g;
       }
     }
-    std::snprintf(label, sizeof label, "%s, best of sweep (%.2f m)", toString(m), best_grid);
-    if (best_grid == base.odometry.grid) {  // the documented run already is this one
+    std::snprintf(label, sizeof label, "%s, best of sweep (%.2f m)", m.c_str(), best_grid);
+    if (best_grid == base.matcher.grid) {  // the documented run already is this one
       Row again = rows[documented];
       again.name = label;
       rows.push_back(again);
     } else {
-      o.odometry.grid = best_grid;
+      o.matcher.grid = best_grid;
       rows.push_back(run("comparison", label, o));
     }
   }
@@ -117,24 +117,24 @@ int runScanningTable(const ScanningRunOptions& base, ScanFormat format, const st
     change(o);
     rows.push_back(run("ablation", name, o));
   };
-  ablate("power shift off (s = 0)", [](ScanningRunOptions& o) { o.odometry.power_shift = 0; });
-  ablate("shift in the cells only", [](ScanningRunOptions& o) { o.odometry.shift_source_weights = false; });
+  ablate("power shift off (s = 0)", [](ScanningRunOptions& o) { o.matcher.power_shift = 0; });
+  ablate("shift in the cells only", [](ScanningRunOptions& o) { o.matcher.shift_source_weights = false; });
   for (const float t : {0.2f, 0.3f, 0.4f, 0.5f}) {
     std::snprintf(label, sizeof label, "threshold = s = %.1f", static_cast<double>(t));
     ablate(label, [t](ScanningRunOptions& o) {
       o.front_end.threshold = t;
-      o.odometry.power_shift = t;
+      o.matcher.power_shift = t;
     });
   }
   for (const double g : {2.5, 5.0}) {
     std::snprintf(label, sizeof label, "grid g = %.1f m", g);
-    ablate(label, [g](ScanningRunOptions& o) { o.odometry.grid = g; });
+    ablate(label, [g](ScanningRunOptions& o) { o.matcher.grid = g; });
   }
   ablate("scan to scan (no keyframes, the paper)", [](ScanningRunOptions& o) { o.odometry.keyframes.distance = 0; });
   ablate("motion compensation off", [](ScanningRunOptions& o) { o.odometry.compensation.enabled = false; });
   ablate("polar points (no Cartesian image)", [](ScanningRunOptions& o) { o.front_end.cartesian = false; });
   ablate("2x2-neighbour cell lookup",
-         [](ScanningRunOptions& o) { o.matcher.ours.cell_lookup = CellLookup::Neighbours; });
+         [](ScanningRunOptions& o) { o.matcher.weighted_ndt.cell_lookup = CellLookup::Neighbours; });
 
   if (json_out) {
     json j = json::array();
@@ -202,23 +202,22 @@ int runNuScenesTable(const AutomotiveRunOptions& options, const NuScenesDataset&
     int n = 0;
   };
   constexpr std::size_t kDefault = 0;  // the row of the default pipeline
-  const std::vector<Method> methods = {Method::PclIcp, Method::PwNdt, Method::Doppler, Method::RappNdt};
-  const std::vector<std::pair<Method, std::vector<std::size_t>>> plan = {{Method::PclIcp, {1, 3, 5, 10, kDefault}},
-                                                                         {Method::PwNdt, {1, 3, 5, 10, kDefault}},
-                                                                         {Method::Doppler, {1, kDefault}},
-                                                                         {Method::RappNdt, {1, kDefault}}};
-  std::map<std::pair<int, std::size_t>, Cell> cells;
+  const std::vector<std::string> methods = {"pcl-icp", "pw-ndt", "doppler", "rapp-ndt"};
+  const std::vector<std::pair<std::string, std::vector<std::size_t>>> plan = {{"pcl-icp", {1, 3, 5, 10, kDefault}},
+                                                                              {"pw-ndt", {1, 3, 5, 10, kDefault}},
+                                                                              {"doppler", {1, kDefault}},
+                                                                              {"rapp-ndt", {1, kDefault}}};
+  std::map<std::pair<std::string, std::size_t>, Cell> cells;
   for (const auto& [method, ns] : plan)
     for (const std::size_t N : ns)
       for (const auto* scene : scenes) {
         AutomotiveRunOptions o = withMethod(options, method);
         if (N != kDefault) o.odometry = o.odometry.paper(N);
-        const std::string label =
-            std::string(toString(method)) + (N == kDefault ? " default" : " N=" + std::to_string(N));
+        const std::string label = method + (N == kDefault ? " default" : " N=" + std::to_string(N));
         const AutomotiveRunResult r = runAutomotiveOdometry(dataset, *scene, o, apps::Progress{progress_on, label});
         const PosePairs pairs = associate(r.ground_truth, r.estimate);
         const EvaluationReport rep = evaluate(pairs, {Metric::OneMeter, Metric::Frame, Metric::Ate});
-        Cell& c = cells[{static_cast<int>(method), N}];
+        Cell& c = cells[{method, N}];
         c.trans += rep.one_meter->trans_err_pct;
         c.rot += rep.one_meter->rot_err_deg_per_m;
         c.ate += rep.ate->rmse_m;
@@ -251,8 +250,8 @@ int runNuScenesTable(const AutomotiveRunOptions& options, const NuScenesDataset&
   };
   for (const std::size_t N : {std::size_t{1}, std::size_t{3}, std::size_t{5}, std::size_t{10}, kDefault}) {
     md << "| " << (N == kDefault ? "default (" + default_name + ")" : std::to_string(N));
-    for (const Method m : methods) {
-      const auto it = cells.find({static_cast<int>(m), N});
+    for (const std::string& m : methods) {
+      const auto it = cells.find({m, N});
       if (it == cells.end()) {
         md << " | | ";
         continue;
@@ -260,7 +259,7 @@ int runNuScenesTable(const AutomotiveRunOptions& options, const NuScenesDataset&
       const Cell& c = it->second;
       const double k = 1.0 / c.n;
       md << " | " << fmt(c.trans * k, 2) << " | " << fmt(c.rot * k, 3);
-      json e = {{"method", toString(m)},
+      json e = {{"method", m},
                 {"trans_err_pct", c.trans * k},
                 {"rot_err_deg_per_m", c.rot * k},
                 {"ate_m", c.ate * k},
@@ -327,15 +326,14 @@ int runNoiseCalibration(const AutomotiveRunOptions& options, const NuScenesDatas
                 {"match_sigma_yaw", c.match_sigma_yaw},     {"doppler_samples", c.doppler_samples},
                 {"match_samples", c.match_samples}};
   };
-  json out = {{"method", toString(options.matcher.method)},
-              {"calibrated_on_all", cal_json(all)},
-              {"leave_one_out", json::array()}};
+  json out = {
+      {"method", options.matcher.method}, {"calibrated_on_all", cal_json(all)}, {"leave_one_out", json::array()}};
   std::ostringstream md;
   char b[256];
   std::snprintf(b, sizeof b,
                 "calibrated on all %zu scenes (%s): Doppler σ %.4f m/s, %.4f m/s, %.5f rad/s; match covariance x %.3f; "
                 "match σ %.4f m, %.4f m, %.5f rad\n\n",
-                scenes.size(), toString(options.matcher.method), all.doppler_sigma_x, all.doppler_sigma_y,
+                scenes.size(), options.matcher.method.c_str(), all.doppler_sigma_x, all.doppler_sigma_y,
                 all.doppler_sigma_yaw, all.match_covariance_scale, all.match_sigma_x, all.match_sigma_y,
                 all.match_sigma_yaw);
   md << b
@@ -447,7 +445,7 @@ int main(int argc, char** argv) {
     const bool progress_on = !vm["quiet"].as<bool>() && isatty(STDERR_FILENO);
     const std::string format = vm["format"].as<std::string>();
     if (apps::pipelineOf(format) == apps::Pipeline::Scanning)
-      return runScanningTable(scanningTableOptions(vm), parseScanFormat(format), apps::sequenceDirs(vm),
+      return runScanningTable(scanningTableOptions(vm), parseEnum<ScanFormat>(format), apps::sequenceDirs(vm),
                               vm["sweep-scans"].as<std::size_t>(), json_out, progress_on);
     const AutomotiveRunOptions options = apps::automotiveOptions(vm);
     const NuScenesDataset dataset = apps::openDataset(vm);

@@ -84,7 +84,7 @@ json inChild(const std::function<json()>& body) {
 }
 
 struct ScanningConfig {
-  Method method = Method::PwNdt;
+  std::string method = "pw-ndt";
   int threads = 1;
   float threshold = ScanningRunOptions().front_end.threshold;
   double max_range = ScanningRunOptions().front_end.max_range;
@@ -125,6 +125,14 @@ json medianOf(int repeats, const std::function<json()>& run) {
   return out;
 }
 
+/// The registered matchers a scanning radar can run (the registry's, in its order).
+std::vector<std::string> scanningMethods() {
+  std::vector<std::string> out;
+  for (const std::string& name : matcherNames())
+    if (!findMatcher(name).uses.needs_doppler) out.push_back(name);
+  return out;
+}
+
 std::vector<int> parseInts(const std::string& list) {
   std::vector<int> out;
   std::stringstream ss(list);
@@ -145,10 +153,10 @@ json scanningTable(const po::variables_map& vm, const std::string& dir, ScanForm
   json rows = json::array();
   std::printf("%-8s %7s %9s %9s %9s %8s %9s %9s %8s\n", "method", "threads", "decode", "front-end", "match", "points",
               "scans/s", "cpu s", "peak MiB");
-  for (const std::string& name : {std::string("pw-ndt"), std::string("pcl-ndt"), std::string("pcl-icp")})
+  for (const std::string& name : scanningMethods())
     for (int threads : parseInts(vm["threads"].as<std::string>())) {
       ScanningConfig c;
-      c.method = parseMethod(name);
+      c.method = name;
       c.threads = threads;
       json r = medianOf(repeats, [&] { return runScanning(dir, format, c, max_scans); });
       r["method"] = name;
@@ -345,7 +353,7 @@ int main(int argc, char** argv) {
     } else if (vm.count("sequence")) {
       const std::string dir = vm["sequence"].as<std::string>();
       const std::string f = vm["format"].as<std::string>();
-      const ScanFormat format = parseScanFormat(f);
+      const ScanFormat format = parseEnum<ScanFormat>(f);
       out["sequence"] = dir;
       if (vm["growth"].as<bool>())
         out["growth"] = growth(vm, dir, format);

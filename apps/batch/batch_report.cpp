@@ -151,8 +151,10 @@ std::string summaryCsv(const std::vector<TaskRow>& rows) {
   return csv;
 }
 
-std::string summaryMarkdown(const Plan& plan, const std::vector<TaskRow>& rows) {
-  std::ostringstream md;
+namespace {
+
+/// The report's head: what was run and how many tasks ended how.
+void markdownHead(std::ostringstream& md, const Plan& plan, const std::vector<TaskRow>& rows) {
   const auto& req = plan.request;
   std::size_t complete = 0, failed = 0;
   for (const auto& r : rows) complete += r.state == TaskState::Complete, failed += r.state == TaskState::Failed;
@@ -170,6 +172,10 @@ std::string summaryMarkdown(const Plan& plan, const std::vector<TaskRow>& rows) 
   md << "\n- RadarNDT " << plan.version << ", revision " << plan.git_revision << "\n"
      << "- tasks: " << rows.size() << ", complete " << complete << ", failed " << failed << ", not run "
      << rows.size() - complete - failed << "\n\n";
+}
+
+/// The means and medians per method and setting, then the best setting of each method.
+void markdownGroups(std::ostringstream& md, const Plan& plan, const std::vector<TaskRow>& rows) {
   const auto groups = summarize(rows);
   const auto& columns = metricColumns();
   std::vector<std::size_t> shown;  // columns with a value in some group
@@ -190,36 +196,57 @@ std::string summaryMarkdown(const Plan& plan, const std::vector<TaskRow>& rows) 
     md << "\n";
   }
   const int primary = primaryMetric(rows);
-  if (primary >= 0) {
-    md << "\n## Best setting per method (lowest mean " << columns[primary].name << ")\n\n";
-    for (const auto& m : req.methods) {
-      const GroupSummary* best = nullptr;
-      for (const auto& g : groups)
-        if (g.method == m && !std::isnan(g.mean[primary]) && (!best || g.mean[primary] < best->mean[primary]))
-          best = &g;
-      if (best)
-        md << "- `" << m << "`: " << best->settings << " (" << formatNumber(best->mean[primary]) << ", "
-           << best->complete << " of " << best->tasks << " sequences)\n";
-    }
+  if (primary < 0) return;
+  md << "\n## Best setting per method (lowest mean " << columns[primary].name << ")\n\n";
+  for (const auto& m : plan.request.methods) {
+    const GroupSummary* best = nullptr;
+    for (const auto& g : groups)
+      if (g.method == m && !std::isnan(g.mean[primary]) && (!best || g.mean[primary] < best->mean[primary])) best = &g;
+    if (best)
+      md << "- `" << m << "`: " << best->settings << " (" << formatNumber(best->mean[primary]) << ", " << best->complete
+         << " of " << best->tasks << " sequences)\n";
   }
-  auto list = [&](const char* title, const std::vector<TaskState>& states) {
-    bool any = false;
-    for (const auto& r : rows) {
-      if (std::find(states.begin(), states.end(), r.state) == states.end()) continue;
-      if (!any)
-        md << "\n## " << title << "\n\n| id | sequence | method | settings | state | exit code | log |\n"
-           << "|---|---|---|---|---|---|---|\n";
-      any = true;
-      md << "| " << r.task.id << " | " << r.task.sequence << " | " << r.task.method << " | " << r.task.settingsText()
-         << " | " << toString(r.state) << " | " << (r.exit_code >= 0 ? std::to_string(r.exit_code) : "") << " | `"
-         << r.log << "` |\n";
-    }
-  };
-  list("Failed tasks", {TaskState::Failed});
-  list("Tasks without a result (not run, killed, or planned anew): `radar_batch run` runs them",
-       {TaskState::Missing, TaskState::Stale});
+}
+
+/// The tasks in `states`, under `title` (nothing when there are none).
+void markdownTasks(std::ostringstream& md, const std::vector<TaskRow>& rows, const char* title,
+                   const std::vector<TaskState>& states) {
+  bool any = false;
+  for (const auto& r : rows) {
+    if (std::find(states.begin(), states.end(), r.state) == states.end()) continue;
+    if (!any)
+      md << "\n## " << title << "\n\n| id | sequence | method | settings | state | exit code | log |\n"
+         << "|---|---|---|---|---|---|---|\n";
+    any = true;
+    md << "| " << r.task.id << " | " << r.task.sequence << " | " << r.task.method << " | " << r.task.settingsText()
+       << " | " << toString(r.state) << " | " << (r.exit_code >= 0 ? std::to_string(r.exit_code) : "") << " | `"
+       << r.log << "` |\n";
+  }
+}
+
+}  // namespace
+
+std::string summaryMarkdown(const Plan& plan, const std::vector<TaskRow>& rows) {
+  std::ostringstream md;
+  markdownHead(md, plan, rows);
+  markdownGroups(md, plan, rows);
+  markdownTasks(md, rows, "Failed tasks", {TaskState::Failed});
+  markdownTasks(md, rows, "Tasks without a result (not run, killed, or planned anew): `radar_batch run` runs them",
+                {TaskState::Missing, TaskState::Stale});
   return md.str();
 }
+
+namespace {
+/// The largest value of the metric `column` among the complete tasks (1 without one): the plot's top.
+double largestValue(const std::vector<TaskRow>& rows, int column) {
+  double top = 0;
+  if (column >= 0)
+    for (const auto& r : rows)
+      if (r.state == TaskState::Complete && !std::isnan(r.*metricColumns()[column].field))
+        top = std::max(top, r.*metricColumns()[column].field);
+  return top <= 0 ? 1 : top;
+}
+}  // namespace
 
 std::string summarySvg(const std::vector<TaskRow>& rows) {
   const int primary = primaryMetric(rows);
@@ -230,12 +257,7 @@ std::string summarySvg(const std::vector<TaskRow>& rows) {
     const std::string g = r.task.method + " " + r.task.settingsText();
     if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
   }
-  double top = 0;
-  if (primary >= 0)
-    for (const auto& r : rows)
-      if (r.state == TaskState::Complete && !std::isnan(r.*metricColumns()[primary].field))
-        top = std::max(top, r.*metricColumns()[primary].field);
-  if (top <= 0) top = 1;
+  const double top = largestValue(rows, primary);
   const int bar = 14, gap = 20, left = 70, plot_h = 260, legend_h = 18 * static_cast<int>(groups.size());
   const int width = left + static_cast<int>(sequences.size()) * (bar * static_cast<int>(groups.size()) + gap) + 20;
   const int height = 40 + plot_h + 110 + legend_h;

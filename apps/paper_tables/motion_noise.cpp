@@ -32,8 +32,8 @@ std::vector<MotionNoiseSample> motionNoiseSamples(const AutomotiveRunResult& run
     m.dt = 1e-6 * static_cast<double>(s.timestamp_us - p.timestamp_us);
     m.truth = between(toPose2(run.ground_truth.poses[k - 1]), toPose2(run.ground_truth.poses[k]));
     if (!(m.dt > 0) || !m.truth.allFinite()) continue;
-    m.doppler = s.doppler_motion;
-    m.doppler_covariance = s.doppler_covariance;
+    m.doppler = s.prior_motion;
+    m.doppler_covariance = s.prior_covariance;
     m.matched = s.status == StepStatus::Matched || s.status == StepStatus::Retried;
     m.match = s.match_motion;
     m.match_covariance = s.match_covariance;

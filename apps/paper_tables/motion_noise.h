@@ -41,7 +41,8 @@ struct MotionNoiseCalibration {
   std::size_t doppler_samples = 0, match_samples = 0, reported_covariances = 0;
   /// `options` with the calibrated values set for the matcher `which` (its scale or its σ's;
   /// those without samples unchanged).
-  MotionFusionOptions applyTo(MotionFusionOptions options, MatchCalibration which = MatchCalibration::Ours) const;
+  MotionFusionOptions applyTo(MotionFusionOptions options,
+                              MatchCalibration which = MatchCalibration::WeightedNdt) const;
 };
 
 /// Calibrates from `samples` (throws std::invalid_argument when there are none).
@@ -55,7 +56,7 @@ struct MotionNees {
 /// Mean NEES of the Doppler and match motions of `samples` under `options`' covariances (the
 /// reported match covariance scaled when there is one, else the fixed σ's).
 MotionNees motionNees(const std::vector<MotionNoiseSample>& samples, const MotionFusionOptions& options,
-                      MatchCalibration which = MatchCalibration::Ours);
+                      MatchCalibration which = MatchCalibration::WeightedNdt);
 
 /// What the match can add to the Doppler motion on one axis (x, y or yaw of the motion), judged
 /// with the ground truth: the two errors' RMS and correlation, and the best any fixed linear

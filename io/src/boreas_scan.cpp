@@ -74,13 +74,7 @@ double boreasRangeResolution(double time_s) {
 }
 
 void BoreasPolarOptions::validate() const {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("BoreasPolarOptions: " + what); };
-  if (!(range_resolution >= 0) || !std::isfinite(range_resolution))
-    fail("range_resolution must be >= 0 (0: by the scan's date)");
-  if (!std::isfinite(range_offset_bins)) fail("range_offset_bins must be finite");
-  if (!(zero_below >= 0) || !std::isfinite(zero_below)) fail("zero_below must be >= 0");
-  if (encoder_size < 1) fail("encoder_size must be >= 1");
-  if (expected_bins < 0) fail("expected_bins must be >= 0 (0: any width)");
+  checkFields(*this, "BoreasPolarOptions");
 }
 
 PolarScan readBoreasPolarPng(const std::string& path, const BoreasPolarOptions& options) {

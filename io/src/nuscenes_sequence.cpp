@@ -22,7 +22,7 @@ std::string joinNames(const Range& range, Name name) {
 }  // namespace
 
 void NuScenesSequenceOptions::validate() const {
-  if (!(filter.max_range > 0)) throw std::invalid_argument("NuScenesSequenceOptions: filter.max_range must be > 0");
+  checkFields(*this, "NuScenesSequenceOptions");
 }
 
 namespace {

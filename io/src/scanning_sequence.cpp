@@ -37,36 +37,7 @@ double median(std::vector<double> v) {
 }  // namespace
 
 void ScanningSequenceOptions::validate() const {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("ScanningSequenceOptions: " + what); };
-  if (!(oxford.convention.range_resolution > 0) || !std::isfinite(oxford.convention.range_resolution))
-    fail("oxford.convention.range_resolution (the bin size) must be > 0");
-  if (oxford.expected_bins < 0) fail("oxford.expected_bins must be >= 0 (0: any width)");
-  if (oxford.encoder_size < 1) fail("oxford.encoder_size must be >= 1");
-  if (!(radiate.convention.range_resolution > 0) || !std::isfinite(radiate.convention.range_resolution))
-    fail("radiate.convention.range_resolution (the bin size) must be > 0");
-  if (radiate.expected_azimuths < 0) fail("radiate.expected_azimuths must be >= 0 (0: any)");
-  if (!(radiate.sweep_period > 0)) fail("radiate.sweep_period must be > 0");
-  try {
-    boreas.validate();
-  } catch (const std::invalid_argument& e) {
-    fail(std::string("boreas: ") + e.what());
-  }
-}
-
-ScanFormat parseScanFormat(const std::string& name) {
-  if (name == "oxford") return ScanFormat::Oxford;
-  if (name == "radiate") return ScanFormat::Radiate;
-  if (name == "boreas") return ScanFormat::Boreas;
-  throw std::invalid_argument("unknown scanning format '" + name + "' (oxford, radiate, boreas)");
-}
-
-const char* toString(ScanFormat f) {
-  switch (f) {
-    case ScanFormat::Oxford: return "oxford";
-    case ScanFormat::Radiate: return "radiate";
-    case ScanFormat::Boreas: return "boreas";
-  }
-  return "?";
+  checkFields(*this, "ScanningSequenceOptions");
 }
 
 ScanningSequence::ScanningSequence(const std::string& dir, ScanFormat format, const ScanningSequenceOptions& options)

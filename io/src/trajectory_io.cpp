@@ -181,11 +181,7 @@ bool Trajectory::poseAt(double t, Eigen::Isometry3d* pose) const {
 TrajectoryFormat parseTrajectoryFormat(const std::string& name) {
   std::string n = name;
   std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (n == "kitti") return TrajectoryFormat::Kitti;
-  if (n == "tum") return TrajectoryFormat::Tum;
-  if (n == "boreas") return TrajectoryFormat::Boreas;
-  if (n == "auto") return TrajectoryFormat::Auto;
-  throw std::invalid_argument("unknown trajectory format '" + name + "' (expected kitti, tum, boreas or auto)");
+  return parseEnum<TrajectoryFormat>(n);
 }
 
 Trajectory readKitti(const std::string& path) {

@@ -37,13 +37,15 @@ ScanPtr readScan(const std::function<PolarScan()>& read) {
   return std::make_shared<PolarScan>(read());
 }
 
-void bindPolarScan(py::module_& m) {
-  py::class_<PolarScan, ScanPtr>(
+void bindPolarScanRows(py::class_<PolarScan, ScanPtr>& c);
+
+void bindPolarScanClass(py::module_& m) {
+  py::class_<PolarScan, ScanPtr> c(
       m, "PolarScan",
       "One sweep of a scanning radar (radar_ndt/io/polar_scan.h). The arrays are views of the scan's "
       "own memory (writable: a change reaches the front-end); azimuth angles are in the vehicle frame "
-      "(rad, counter-clockwise from x forward), times in microseconds.")
-      .def_readonly("azimuths", &PolarScan::azimuths)
+      "(rad, counter-clockwise from x forward), times in microseconds.");
+  c.def_readonly("azimuths", &PolarScan::azimuths)
       .def_readonly("bins", &PolarScan::bins)
       .def_property_readonly(
           "power",
@@ -72,14 +74,18 @@ void bindPolarScan(py::module_& m) {
             auto& s = self.cast<PolarScan&>();
             return view(s.measured, self, {s.azimuths});
           },
-          "numpy.ndarray: (azimuths,) uint8, 1 where the sensor measured the row, 0 where it interpolated it")
-      .def_property_readonly(
-          "encoder",
-          [](py::object self) {
-            auto& s = self.cast<PolarScan&>();
-            return view(s.encoder, self, {static_cast<py::ssize_t>(s.encoder.size())});
-          },
-          "numpy.ndarray: (azimuths,) uint16 raw encoder counts (empty for RADIATE)")
+          "numpy.ndarray: (azimuths,) uint8, 1 where the sensor measured the row, 0 where it interpolated it");
+  bindPolarScanRows(c);
+}
+
+void bindPolarScanRows(py::class_<PolarScan, ScanPtr>& c) {
+  c.def_property_readonly(
+       "encoder",
+       [](py::object self) {
+         auto& s = self.cast<PolarScan&>();
+         return view(s.encoder, self, {static_cast<py::ssize_t>(s.encoder.size())});
+       },
+       "numpy.ndarray: (azimuths,) uint16 raw encoder counts (empty for RADIATE)")
       .def_property_readonly(
           "chirp_up",
           [](py::object self) {
@@ -102,7 +108,9 @@ void bindPolarScan(py::module_& m) {
         return "PolarScan(stamp=" + std::to_string(s.stamp) + ", azimuths=" + std::to_string(s.azimuths) +
                ", bins=" + std::to_string(s.bins) + ", range_resolution=" + std::to_string(s.range_resolution) + ")";
       });
+}
 
+void bindScanReaders(py::module_& m) {
   m.def(
       "read_oxford_scan",
       [](const std::filesystem::path& path_arg, const py::kwargs& kw) {
@@ -134,6 +142,11 @@ void bindPolarScan(py::module_& m) {
       py::arg("path"),
       "A Boreas radar PNG as pyboreas reads it (the bin by the file name's date, near bins zeroed, "
       "chirp types from the flag bytes). Keywords: BoreasPolarOptions.");
+}
+
+void bindPolarScan(py::module_& m) {
+  bindPolarScanClass(m);
+  bindScanReaders(m);
 }
 
 void bindTrajectory(py::module_& m) {
@@ -199,7 +212,7 @@ void bindScanningSequence(py::module_& m) {
       .def(py::init([](const std::filesystem::path& dir_arg, const std::string& format, const py::kwargs& kw) {
              const std::string dir = dir_arg.string();
              const auto o = withKeywords(ScanningSequenceOptions{}, kw, "ScanningSequence");
-             const ScanFormat f = parseScanFormat(format);
+             const ScanFormat f = parseEnum<ScanFormat>(format);
              py::gil_scoped_release release;
              return std::make_unique<ScanningSequence>(dir, f, o);
            }),
@@ -253,7 +266,7 @@ py::dict sweepDict(const NuScenesSweep& s) {
   return d;
 }
 
-void bindNuScenes(py::module_& m) {
+void bindNuScenesDataset(py::module_& m) {
   py::class_<NuScenesDataset, std::shared_ptr<NuScenesDataset>>(
       m, "NuScenesDataset",
       "The tables of a nuScenes-layout dataroot (radar_ndt/io/nuscenes.h).\n\nNuScenesDataset(dataroot, version='').")
@@ -295,7 +308,9 @@ void bindNuScenes(py::module_& m) {
       py::arg("path"), py::arg("sensor_id") = 0,
       "One nuScenes radar PCD as an (N, 11) array of POINT_FIELDS in the sensor frame (doppler: the radial "
       "velocity). Keywords: NuScenesRadarFilter (max_range, invalid_states, dyn_props, ambig_states).");
+}
 
+void bindRadarCycles(py::module_& m) {
   py::class_<RadarSweepData>(m, "RadarSweep", "One radar's sweep of a cycle, points in the sensor frame.")
       .def_readonly("timestamp_us", &RadarSweepData::timestamp_us)
       .def_readonly("sensor_id", &RadarSweepData::sensor_id)
@@ -336,6 +351,11 @@ void bindNuScenes(py::module_& m) {
           },
           py::arg("k"),
           "Reads cycle k: (RadarCycle, problems), a sweep that cannot be read left out and described in problems.");
+}
+
+void bindNuScenes(py::module_& m) {
+  bindNuScenesDataset(m);
+  bindRadarCycles(m);
 }
 
 }  // namespace

@@ -38,7 +38,7 @@ py::dict countersDict(const OdometryCounters& c) {
   return d;
 }
 
-void bindFrontEnds(py::module_& m) {
+void bindPowerThreshold(py::module_& m) {
   py::class_<PowerThreshold>(m, "PowerThreshold",
                              "The scanning front-end (paper, Sec. III-A): polar scan to points above the power "
                              "threshold, in the vehicle frame.\n\nPowerThreshold(**PowerThresholdOptions).")
@@ -74,6 +74,9 @@ void bindFrontEnds(py::module_& m) {
           py::arg("scan"),
           "(image, metres per pixel): the Cartesian power image, row 0 the far front, column 0 the far left, "
           "-1 outside the ring.");
+}
+
+void bindChirpsAndVoxels(py::module_& m) {
   m.def(
       "correct_chirps",
       [](PolarScan& scan, double max_range, const py::kwargs& kw) {
@@ -104,7 +107,14 @@ void bindFrontEnds(py::module_& m) {
       py::arg("points"), py::arg("size"),
       "Points merged per square voxel of `size` m (position, time offset and covariance averaged, power the "
       "strongest): how the scanning run feeds PCL's matchers.");
+}
 
+void bindScanningFrontEnd(py::module_& m) {
+  bindPowerThreshold(m);
+  bindChirpsAndVoxels(m);
+}
+
+void bindAutomotiveFrontEnd(py::module_& m) {
   py::class_<EgoVelocity>(m, "EgoVelocity",
                           "A Doppler ego-velocity fit (radar_ndt/frontend/ego_velocity.h): (vx, vy, yaw rate) in the "
                           "vehicle frame, m/s and rad/s.")
@@ -142,12 +152,17 @@ void bindFrontEnds(py::module_& m) {
           "False.");
 }
 
+void bindFrontEnds(py::module_& m) {
+  bindScanningFrontEnd(m);
+  bindAutomotiveFrontEnd(m);
+}
+
 void bindStep(py::module_& m) {
   py::class_<OdometryStep>(m, "OdometryStep", "What one scan or cycle did (radar_ndt/odometry/odometry_step.h).")
       .def_readonly("timestamp_us", &OdometryStep::timestamp_us)
       .def_readonly("pose", &OdometryStep::pose, "numpy.ndarray: (x, y, yaw) in the first frame")
       .def_readonly("motion", &OdometryStep::motion, "numpy.ndarray: (x, y, yaw) of this frame in the previous one")
-      .def_readonly("prior_motion", &OdometryStep::doppler_motion,
+      .def_readonly("prior_motion", &OdometryStep::prior_motion,
                     "numpy.ndarray: the initial guess, the Doppler integral (scanning: constant velocity)")
       .def_property_readonly(
           "status", [](const OdometryStep& s) { return std::string(toString(s.status)); },
@@ -173,23 +188,23 @@ void bindStep(py::module_& m) {
 
 /// Matcher options for an odometry: the run's defaults, `method`, then `matcher` keywords.
 MatcherOptions matcherOptions(MatcherOptions base, const std::string& method, const py::object& matcher) {
-  if (!method.empty()) base.method = parseMethod(method);
+  if (!method.empty()) base.method = method;
   if (!matcher.is_none()) base = withKeywords(base, matcher.cast<py::dict>(), "matcher");
   base.validate();
   return base;
 }
 
-void bindOdometries(py::module_& m) {
+void bindScanningOdometry(py::module_& m) {
   bindStep(m);
   py::class_<ScanningOdometry>(
       m, "ScanningOdometry",
       "The scanning pipeline after the front-end, scan by scan (radar_ndt/odometry/scanning_odometry.h).\n\n"
       "ScanningOdometry(method='pw-ndt', matcher=None, **ScanningOdometryOptions): matcher a dict of "
-      "MatcherOptions fields (default: the scanning run's, overlapping grids).")
+      "MatcherOptions fields (default: the scanning radars', MatcherOptions::forScanning).")
       .def(py::init([](const std::string& method, const py::object& matcher, const py::kwargs& kw) {
-             const MatcherOptions mo = matcherOptions(ScanningRunOptions::defaultMatcher(), method, matcher);
-             if (mo.method == Method::Doppler || mo.method == Method::RappNdt)
-               throw std::invalid_argument(std::string("method ") + toString(mo.method) +
+             const MatcherOptions mo = matcherOptions(MatcherOptions::forScanning(), method, matcher);
+             if (findMatcher(mo.method).uses.needs_doppler)
+               throw std::invalid_argument("method " + mo.method +
                                            " needs Doppler, which scanning radars do not measure");
              const auto o = withKeywords(ScanningOdometryOptions{}, kw, "ScanningOdometry", "method, matcher");
              return std::make_unique<ScanningOdometry>(o, makeMatcher(mo));
@@ -217,13 +232,16 @@ void bindOdometries(py::module_& m) {
             return c ? toArray(*c) : toArray(pcl::PointCloud<PointRadar>());
           },
           "what the next scan is matched against");
+}
+
+void bindAutomotiveOdometry(py::module_& m) {
   py::class_<AutomotiveOdometry>(
       m, "AutomotiveOdometry",
       "The automotive pipeline after the front-end, cycle by cycle "
       "(radar_ndt/odometry/automotive_odometry.h).\n\nAutomotiveOdometry(method='pw-ndt', matcher=None, "
       "**AutomotiveOdometryOptions); method doppler dead-reckons with the ego-velocity.")
       .def(py::init([](const std::string& method, const py::object& matcher, const py::kwargs& kw) {
-             AutomotiveRunOptions run = withMethod(AutomotiveRunOptions{}, parseMethod(method));
+             AutomotiveRunOptions run = withMethod(AutomotiveRunOptions{}, method);
              run.odometry = withKeywords(run.odometry, kw, "AutomotiveOdometry", "method, matcher");
              const MatcherOptions mo = matcherOptions(run.matcher, "", matcher);
              return std::make_unique<AutomotiveOdometry>(run.odometry, makeMatcher(mo));
@@ -240,6 +258,11 @@ void bindOdometries(py::module_& m) {
       .def_property_readonly("steps", &AutomotiveOdometry::steps)
       .def_property_readonly("counters", [](const AutomotiveOdometry& o) { return countersDict(o.counters()); })
       .def_property_readonly("trajectory", &AutomotiveOdometry::trajectory);
+}
+
+void bindOdometries(py::module_& m) {
+  bindScanningOdometry(m);
+  bindAutomotiveOdometry(m);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// The matchers: ours (radar_ndt::WeightedNDT2D for PointRadar) and PCL's NDT and ICP as the
+// The matchers: pw-ndt (radar_ndt::WeightedNDT2D for PointRadar) and PCL's NDT and ICP as the
 // pipelines build them (makeMatcher), each with align(source, target, guess) on numpy arrays.
 
 #include <pybind11/eigen.h>
@@ -16,7 +16,7 @@ namespace python {
 
 namespace {
 
-using Ours = WeightedNDT2D<PointRadar, PointRadar>;
+using WeightedNdt = WeightedNDT2D<PointRadar, PointRadar>;
 using PclNdt = pcl::NormalDistributionsTransform<PointRadar, PointRadar>;
 using PclIcp = pcl::IterativeClosestPoint<PointRadar, PointRadar>;
 
@@ -47,14 +47,13 @@ Pose2 poseOf(const Eigen::Matrix4f& T) {
 /// A PCL matcher as the pipelines build it, its keyword arguments applied (PCL's own setters).
 class PclMatcher {
  public:
-  PclMatcher(Method method, const py::kwargs& kw) : method_(method) {
-    MatcherOptions o;
+  PclMatcher(const std::string& method, const py::kwargs& kw) : ndt_(method == "pcl-ndt") {
+    MatcherOptions o;  // the grid's default is MatcherOptions'
     o.method = method;
-    double grid = 3.0;
-    const char* grid_key = method == Method::PclNdt ? "resolution" : "max_correspondence_distance";
-    if (kw.contains(grid_key)) grid = keywordAs<double>(kw[grid_key], grid_key);
-    if (!(grid > 0)) throw std::invalid_argument(std::string(grid_key) + " must be > 0");
-    adapter_ = makeMatcher(o, grid);
+    const char* grid_key = ndt_ ? "resolution" : "max_correspondence_distance";
+    if (kw.contains(grid_key)) o.grid = keywordAs<double>(kw[grid_key], grid_key);
+    if (!(o.grid > 0)) throw std::invalid_argument(std::string(grid_key) + " must be > 0");
+    adapter_ = makeMatcher(o);
     for (auto item : kw) {
       const std::string k = py::str(item.first);
       if (k == grid_key) continue;
@@ -68,16 +67,15 @@ class PclMatcher {
       r.setMaximumIterations(positive<int>(key, value));
     else if (key == "transformation_epsilon")
       r.setTransformationEpsilon(positive<double>(key, value));
-    else if (key == "step_size" && method_ == Method::PclNdt)
+    else if (key == "step_size" && ndt_)
       static_cast<PclNdt&>(r).setStepSize(positive<double>(key, value));
-    else if (key == "euclidean_fitness_epsilon" && method_ == Method::PclIcp)
+    else if (key == "euclidean_fitness_epsilon" && !ndt_)
       r.setEuclideanFitnessEpsilon(positive<double>(key, value));
     else
       throw py::type_error("unknown option '" + key + "' of " + name() + "; options: " +
-                           (method_ == Method::PclNdt
-                                ? "resolution, step_size, max_iterations, transformation_epsilon"
-                                : "max_correspondence_distance, max_iterations, transformation_epsilon, "
-                                  "euclidean_fitness_epsilon"));
+                           (ndt_ ? "resolution, step_size, max_iterations, transformation_epsilon"
+                                 : "max_correspondence_distance, max_iterations, transformation_epsilon, "
+                                   "euclidean_fitness_epsilon"));
   }
 
   PclAlignResult align(const py::object& source, const py::object& target, const py::object& guess) {
@@ -86,13 +84,13 @@ class PclMatcher {
     PclAlignResult out;
     out.final_transformation = r.getFinalTransformation();
     out.converged = r.hasConverged();
-    if (method_ == Method::PclNdt) out.iterations = static_cast<PclNdt&>(r).getFinalNumIteration();
+    if (ndt_) out.iterations = static_cast<PclNdt&>(r).getFinalNumIteration();
     py::gil_scoped_release release;
     out.fitness_score = r.getFitnessScore();
     return out;
   }
 
-  std::string name() const { return method_ == Method::PclNdt ? "NDT" : "ICP"; }
+  std::string name() const { return ndt_ ? "NDT" : "ICP"; }
 
  private:
   template <typename T>
@@ -101,15 +99,15 @@ class PclMatcher {
     if (!(v > 0)) throw std::invalid_argument(key + " must be > 0");
     return v;
   }
-  Method method_;
+  bool ndt_;  ///< PCL's NDT, else its ICP
   MatcherAdapter adapter_;
 };
 // One Python class each.
 struct PclNdtMatcher : PclMatcher {
-  explicit PclNdtMatcher(const py::kwargs& kw) : PclMatcher(Method::PclNdt, kw) {}
+  explicit PclNdtMatcher(const py::kwargs& kw) : PclMatcher("pcl-ndt", kw) {}
 };
 struct PclIcpMatcher : PclMatcher {
-  explicit PclIcpMatcher(const py::kwargs& kw) : PclMatcher(Method::PclIcp, kw) {}
+  explicit PclIcpMatcher(const py::kwargs& kw) : PclMatcher("pcl-icp", kw) {}
 };
 
 void bindResults(py::module_& m) {
@@ -159,50 +157,54 @@ void bindResults(py::module_& m) {
                     "PCL's getFitnessScore(): mean squared distance to the nearest target point");
 }
 
+/// WeightedNDT2D(**settings): the settings as keywords, resolution=g and PCL's own three.
+std::shared_ptr<WeightedNdt> makeWeightedNdt(const py::kwargs& kw) {
+  auto r = std::make_shared<WeightedNdt>();
+  WeightedNDT2DSettings s = r->getSettings();
+  py::dict rest;
+  for (auto item : kw) {
+    const std::string k = py::str(item.first);
+    if (k == "resolution")
+      s.resolutions = {keywordAs<float>(item.second, k)};
+    else if (k == "max_iterations")
+      r->setMaximumIterations(keywordAs<int>(item.second, k));
+    else if (k == "transformation_epsilon")
+      r->setTransformationEpsilon(keywordAs<double>(item.second, k));
+    else if (k == "rotation_epsilon")
+      r->setTransformationRotationEpsilon(keywordAs<double>(item.second, k));
+    else
+      rest[item.first] = item.second;
+  }
+  applyKeywords(py::cast(&s, py::return_value_policy::reference), rest, "WeightedNDT2D",
+                "resolution, max_iterations, transformation_epsilon, rotation_epsilon");
+  r->setSettings(s);
+  if (r->getMaximumIterations() < 1) throw std::invalid_argument("max_iterations must be >= 1");
+  return r;
+}
+
 }  // namespace
 
-void bindRegistration(py::module_& m) {
+void bindWeightedNdt(py::module_& m) {
   bindResults(m);
-  py::class_<Ours, std::shared_ptr<Ours>>(
+  py::class_<WeightedNdt, std::shared_ptr<WeightedNdt>>(
       m, "WeightedNDT2D",
       "The paper's weighted probabilistic NDT (radar_ndt::WeightedNDT2D for PointRadar).\n\n"
       "WeightedNDT2D(**settings): every WeightedNDT2DSettings field as a keyword (resolutions, "
       "power_shift, cell_lookup, ...), plus resolution=g (one grid), and PCL's own max_iterations, "
       "transformation_epsilon and rotation_epsilon. A bad value raises ValueError naming it.")
-      .def(py::init([](const py::kwargs& kw) {
-        auto r = std::make_shared<Ours>();
-        WeightedNDT2DSettings s = r->getSettings();
-        py::dict rest;
-        for (auto item : kw) {
-          const std::string k = py::str(item.first);
-          if (k == "resolution")
-            s.resolutions = {keywordAs<float>(item.second, k)};
-          else if (k == "max_iterations")
-            r->setMaximumIterations(keywordAs<int>(item.second, k));
-          else if (k == "transformation_epsilon")
-            r->setTransformationEpsilon(keywordAs<double>(item.second, k));
-          else if (k == "rotation_epsilon")
-            r->setTransformationRotationEpsilon(keywordAs<double>(item.second, k));
-          else
-            rest[item.first] = item.second;
-        }
-        applyKeywords(py::cast(&s, py::return_value_policy::reference), rest, "WeightedNDT2D",
-                      "resolution, max_iterations, transformation_epsilon, rotation_epsilon");
-        r->setSettings(s);
-        if (r->getMaximumIterations() < 1) throw std::invalid_argument("max_iterations must be >= 1");
-        return r;
-      }))
+      .def(py::init(&makeWeightedNdt))
       .def_property(
-          "settings", [](const Ours& r) { return r.getSettings(); },
-          [](Ours& r, const WeightedNDT2DSettings& s) { r.setSettings(s); },
+          "settings", [](const WeightedNdt& r) { return r.getSettings(); },
+          [](WeightedNdt& r, const WeightedNDT2DSettings& s) { r.setSettings(s); },
           "a copy of the settings; assign a WeightedNDT2DSettings to change them (validated)")
-      .def_property("max_iterations", &Ours::getMaximumIterations, &Ours::setMaximumIterations)
-      .def_property("transformation_epsilon", &Ours::getTransformationEpsilon, &Ours::setTransformationEpsilon)
-      .def_property("rotation_epsilon", &Ours::getTransformationRotationEpsilon,
-                    &Ours::setTransformationRotationEpsilon)
+      .def_property("max_iterations", &WeightedNdt::getMaximumIterations, &WeightedNdt::setMaximumIterations)
+      .def_property("transformation_epsilon", &WeightedNdt::getTransformationEpsilon,
+                    &WeightedNdt::setTransformationEpsilon)
+      .def_property("rotation_epsilon", &WeightedNdt::getTransformationRotationEpsilon,
+                    &WeightedNdt::setTransformationRotationEpsilon)
       .def(
           "align",
-          [](Ours& r, const py::object& source, const py::object& target, const py::object& guess) {
+          [](WeightedNdt& r, const py::object& source, const py::object& target, const py::object& guess) {
             alignArrays(r, source, target, guess);
             return r.getResult();
           },
@@ -212,7 +214,7 @@ void bindRegistration(py::module_& m) {
           "WeightedNDT2DResult. The GIL is released while it runs.")
       .def(
           "set_source_sweep",
-          [](Ours& r, double interval, const py::object& previous_pose) {
+          [](WeightedNdt& r, double interval, const py::object& previous_pose) {
             r.setSourceSweep(interval, poseOf(toMatrix4f(previous_pose, "previous_pose")));
           },
           py::arg("interval"), py::arg("previous_pose") = py::make_tuple(0.0, 0.0, 0.0),
@@ -221,11 +223,13 @@ void bindRegistration(py::module_& m) {
           "motion over the step of `interval` seconds from `previous_pose` (the previous scan's pose in the "
           "target's frame; 3x3, 4x4 or (x, y, yaw), default identity) to the source's. Holds for every align "
           "until clear_source_sweep(); raises ValueError for an interval not positive and finite.")
-      .def("clear_source_sweep", &Ours::clearSourceSweep, "Back to one rigid pose for the whole source.")
-      .def_property_readonly("has_source_sweep", &Ours::hasSourceSweep)
+      .def("clear_source_sweep", &WeightedNdt::clearSourceSweep, "Back to one rigid pose for the whole source.")
+      .def_property_readonly("has_source_sweep", &WeightedNdt::hasSourceSweep)
       .def_property_readonly(
-          "result", [](const Ours& r) { return r.getResult(); }, "the last align()'s result");
+          "result", [](const WeightedNdt& r) { return r.getResult(); }, "the last align()'s result");
+}
 
+void bindPclMatchers(py::module_& m) {
   py::class_<PclNdtMatcher>(m, "NDT",
                             "PCL's pcl::NormalDistributionsTransform for PointRadar, set as RadarNDT compares it: "
                             "NDT(resolution=3.0, step_size=0.5, transformation_epsilon=1e-4, max_iterations=50).")
@@ -239,6 +243,11 @@ void bindRegistration(py::module_& m) {
       .def(py::init<const py::kwargs&>())
       .def("align", &PclMatcher::align, py::arg("source"), py::arg("target"), py::arg("guess") = py::none(),
            "Aligns as WeightedNDT2D.align does (the power column is not used); returns a PclAlignResult.");
+}
+
+void bindRegistration(py::module_& m) {
+  bindWeightedNdt(m);
+  bindPclMatchers(m);
 }
 
 }  // namespace python

@@ -46,7 +46,7 @@ py::dict summaryOf(const Result& r, const std::string& metrics) {
 /// options run_scanning runs with, and what scanning_options shows.
 ScanningRunOptions scanningKeywords(const ScanningRunOptions& base, const py::kwargs& kw) {
   ScanningRunOptions o = withKeywords(base, without(kw, {"method"}), "ScanningRunOptions", "method");
-  if (kw.contains("method")) o.matcher.method = parseMethod(keywordAs<std::string>(kw["method"], "method"));
+  if (kw.contains("method")) o.matcher.method = keywordAs<std::string>(kw["method"], "method");
   o.validate();
   return o;
 }
@@ -60,7 +60,7 @@ void bindRunResult(py::class_<Result>& c) {
       .def_readonly("problems", &Result::problems)
       .def_readonly("period", &Result::period_s)
       .def_readonly("median_total_ms", &Result::median_total_ms)
-      .def_property_readonly("method", [](const Result& r) { return std::string(toString(r.method)); })
+      .def_readonly("method", &Result::method)
       .def_property_readonly("median_ms",
                              [](const Result& r) {
                                py::dict d;
@@ -87,7 +87,7 @@ void bindRunResult(py::class_<Result>& c) {
 
 }  // namespace
 
-void bindRuns(py::module_& m) {
+void bindRunResults(py::module_& m) {
   py::class_<ScanningRunResult> scanning(m, "ScanningRun", "What run_scanning returns.");
   bindRunResult(scanning);
   scanning.def_readonly("sequence", &ScanningRunResult::sequence)
@@ -99,7 +99,9 @@ void bindRuns(py::module_& m) {
   automotive.def_readonly("scene", &AutomotiveRunResult::scene)
       .def_readonly("reference_channel", &AutomotiveRunResult::reference_channel)
       .def_readonly("ego_speed", &AutomotiveRunResult::ego_speed);
+}
 
+void bindRunFunctions(py::module_& m) {
   m.def(
       "scanning_options",
       [](const ScanningSequence& sequence, const py::kwargs& kw) {
@@ -112,7 +114,7 @@ void bindRuns(py::module_& m) {
       "run_scanning",
       [](const std::filesystem::path& path_arg, const std::string& format, const py::kwargs& kw) {
         const std::string path = path_arg.string();
-        const ScanFormat f = parseScanFormat(format);
+        const ScanFormat f = parseEnum<ScanFormat>(format);
         // The sequence is read with the keywords' reader settings, the run uses its radar's defaults.
         const auto seq_options =
             withKeywords(ScanningRunOptions{}, without(kw, {"method"}), "ScanningRunOptions", "method").sequence;
@@ -130,7 +132,7 @@ void bindRuns(py::module_& m) {
       py::arg("path"), py::arg("format") = "oxford",
       "Runs the scanning odometry over a sequence directory as radar_odometry --format FORMAT --sequence PATH "
       "does: the defaults for its radar, then the keywords (method='pcl-ndt', threads=1, "
-      "front_end={'threshold': 0.4}, odometry={'grid': 4.0}, ...: ScanningRunOptions fields). Returns a "
+      "front_end={'threshold': 0.4}, matcher={'grid': 4.0}, ...: ScanningRunOptions fields). Returns a "
       "ScanningRun. The GIL is released while it runs.");
   m.def(
       "run_automotive",
@@ -140,7 +142,7 @@ void bindRuns(py::module_& m) {
         const std::string method = kw.contains("method") ? keywordAs<std::string>(kw["method"], "method") : "pw-ndt";
         AutomotiveRunOptions o =
             withKeywords(AutomotiveRunOptions{}, without(kw, {"method"}), "AutomotiveRunOptions", "method, version");
-        o = withMethod(o, parseMethod(method));
+        o = withMethod(o, method);
         o.validate();
         py::gil_scoped_release release;
         const NuScenesDataset dataset(dataroot, version);
@@ -150,6 +152,11 @@ void bindRuns(py::module_& m) {
       "Runs the automotive odometry over one nuScenes scene as radar_odometry --format nuscenes --dataroot "
       "DATAROOT --scene SCENE does; keywords are AutomotiveRunOptions fields, and method='rapp-ndt' sets what "
       "it needs (with_method). Returns an AutomotiveRun. The GIL is released while it runs.");
+}
+
+void bindRuns(py::module_& m) {
+  bindRunResults(m);
+  bindRunFunctions(m);
 }
 
 void bindEvaluation(py::module_& m) {

@@ -78,12 +78,16 @@ def test_keywords_reach_nested_structs_and_copies_are_independent():
     run.odometry.keyframes.distance = 0.0  # nested structs are references into the parent
     assert run.odometry.keyframes.distance == 0.0
     other = copy.deepcopy(run)
-    other.odometry.grid = 9.0
-    assert run.odometry.grid == 3.75
+    other.matcher.grid = 9.0
+    assert run.matcher.grid == 3.75
     run.matcher.method = "pcl-icp"
     assert run.matcher.method == "pcl-icp"
+    run.matcher.method = "gicp"  # a name the registry of matchers lacks: validate() says so
     with pytest.raises(ValueError, match="gicp"):
-        run.matcher.method = "gicp"
+        run.validate()
+    assert [m["name"] for m in radar_ndt.matchers()][:5] == ["pw-ndt", "pcl-ndt", "pcl-icp", "doppler", "rapp-ndt"]
+    assert "KeyframeOptions" in radar_ndt.KeyframeOptions.__doc__
+    assert "0: scan to scan" in radar_ndt.KeyframeOptions.distance.__doc__, "the field table's help"
     with pytest.raises(ValueError):
         radar_ndt.with_method(radar_ndt.AutomotiveRunOptions(), "gicp")
     rapp = radar_ndt.with_method(radar_ndt.AutomotiveRunOptions(), "rapp-ndt")

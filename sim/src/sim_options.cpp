@@ -1,6 +1,6 @@
 // The simulator's settings: the sensor profiles, and every options struct's validate() (each
-// throws std::invalid_argument naming the struct and the setting out of range, as the library's
-// options do).
+// throws std::invalid_argument naming the struct and the setting out of range, from the field
+// tables in radar_sim.h, as the library's options do).
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -42,90 +42,18 @@ class Checker {
 }  // namespace
 
 void WorldOptions::validate() const {
-  const Checker c("WorldOptions");
-  c.nonNegative(road_half_width_min, "road_half_width_min");
-  c.atLeast(road_half_width_max, road_half_width_min, "road_half_width_max");
-  for (const auto& [v, name] : {std::pair{building_probability, "building_probability"},
-                                {facade_gap_probability, "facade_gap_probability"},
-                                {parked_car_probability, "parked_car_probability"},
-                                {tree_probability, "tree_probability"},
-                                {fence_probability, "fence_probability"},
-                                {hedge_probability, "hedge_probability"},
-                                {bus_share, "bus_share"},
-                                {back_row_gap_probability, "back_row_gap_probability"}})
-    c.probability(v, name);
-  c.nonNegative(open_land_objects, "open_land_objects");
-  c.positive(pole_spacing, "pole_spacing");
-  c.nonNegative(movers_per_km, "movers_per_km");
+  checkFields(*this, "WorldOptions");
+  if (!(road_half_width_max >= road_half_width_min))
+    throw std::invalid_argument("WorldOptions: road_half_width_max must be >= road_half_width_min");
   if (mirror != 0.0 && mirror != 1.0) throw std::invalid_argument("WorldOptions: mirror must be 0 or 1");
-  c.nonNegative(back_rows, "back_rows");
-  c.positive(back_row_spacing, "back_row_spacing");
 }
 
 void ScanningOptions::validate() const {
-  const Checker c("ScanningOptions");
-  c.atLeast(azimuths, 1, "azimuths");
-  c.atLeast(bins, 1, "bins");
-  c.positive(range_resolution, "range_resolution");
-  c.positive(sweep_period, "sweep_period");
-  c.atLeast(encoder_size, 1, "encoder_size");
-  c.nonNegative(beam_width_deg, "beam_width_deg");
-  c.atLeast(beam_rays, 1, "beam_rays");
-  c.nonNegative(range_psf_sigma, "range_psf_sigma");
-  for (const auto& [v, name] : {std::pair{range_sidelobe_db, "range_sidelobe_db"},
-                                {range_loss_db_per_decade, "range_loss_db_per_decade"},
-                                {target_snr_db, "target_snr_db"},
-                                {noise_rise_db, "noise_rise_db"},
-                                {display_knee_db, "display_knee_db"},
-                                {ghost_attenuation_db, "ghost_attenuation_db"},
-                                {saturation_db, "saturation_db"},
-                                {leakage_db, "leakage_db"},
-                                {ground_clutter_db, "ground_clutter_db"},
-                                {azimuth_sidelobe_db, "azimuth_sidelobe_db"},
-                                {range_pedestal_db, "range_pedestal_db"},
-                                {over_occluder_db, "over_occluder_db"},
-                                {scatterer_db, "scatterer_db"},
-                                {noise_display_level, "noise_display_level"}})
-    c.finite(v, name);
-  c.nonNegative(range_sidelobe_length, "range_sidelobe_length");
-  c.positive(display_db_range, "display_db_range");
-  if (!(display_compression > 0 && display_compression <= 1))
-    throw std::invalid_argument("ScanningOptions: display_compression must be in (0, 1]");
-  c.nonNegative(speckle_looks, "speckle_looks");
-  c.probability(ghost_probability, "ghost_probability");
-  c.probability(saturation_probability, "saturation_probability");
-  c.probability(ground_clutter_cover, "ground_clutter_cover");
-  c.positive(max_range, "max_range");
-  c.nonNegative(range_offset_bins, "range_offset_bins");
-  c.nonNegative(display_counts, "display_counts");
-  c.positive(noise_counts, "noise_counts");
-  c.positive(leakage_length, "leakage_length");
-  c.positive(azimuth_sidelobe_width_deg, "azimuth_sidelobe_width_deg");
-  c.positive(range_pedestal_length, "range_pedestal_length");
-  c.nonNegative(scatterer_density, "scatterer_density");
-  c.nonNegative(scatterer_sigma_db, "scatterer_sigma_db");
-  c.nonNegative(scatterer_clearance, "scatterer_clearance");
-  c.nonNegative(depth_scale, "depth_scale");
+  checkFields(*this, "ScanningOptions");
 }
 
 void AutomotiveOptions::validate() const {
-  const Checker c("AutomotiveOptions");
-  c.positive(period, "period");
-  c.nonNegative(jitter, "jitter");
-  c.positive(near_fov_deg, "near_fov_deg");
-  c.positive(near_range, "near_range");
-  c.nonNegative(far_fov_deg, "far_fov_deg");
-  c.positive(far_range, "far_range");
-  c.positive(ray_step_deg, "ray_step_deg");
-  c.probability(detection_probability, "detection_probability");
-  c.nonNegative(cluster_distance, "cluster_distance");
-  c.atLeast(max_detections, 1, "max_detections");
-  c.nonNegative(clutter_per_sweep, "clutter_per_sweep");
-  c.nonNegative(range_sigma, "range_sigma");
-  c.nonNegative(azimuth_sigma_deg, "azimuth_sigma_deg");
-  c.nonNegative(rcs_sigma_db, "rcs_sigma_db");
-  c.nonNegative(doppler_sigma, "doppler_sigma");
-  c.probability(ghost_probability, "ghost_probability");
+  checkFields(*this, "AutomotiveOptions");
 }
 
 void SequenceOptions::validate() const {
@@ -136,16 +64,6 @@ void SequenceOptions::validate() const {
 }
 
 // ---- sensor profiles --------------------------------------------------------------------------
-
-ScanningProfile parseScanningProfile(const std::string& name) {
-  if (name == "oxford") return ScanningProfile::Oxford;
-  if (name == "radiate") return ScanningProfile::Radiate;
-  throw std::invalid_argument("unknown scanning profile '" + name + "' (oxford or radiate)");
-}
-
-const char* toString(ScanningProfile profile) {
-  return profile == ScanningProfile::Oxford ? "oxford" : "radiate";
-}
 
 void applyProfile(ScanningProfile profile, WorldOptions& w, ScanningOptions& s) {
   // The world and sensor settings a profile owns; the seed, geometry and timing stay.

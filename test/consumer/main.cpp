@@ -33,7 +33,7 @@ int main() {
       s2(new pcl::PointCloud<radar_ndt::PointRadar>);
   for (const auto& p : *target) t2->push_back(radar_ndt::PointRadar(p.x, p.y, 0.0f));
   for (const auto& p : *source) s2->push_back(radar_ndt::PointRadar(p.x, p.y, 0.0f));
-  const radar_ndt::MatcherAdapter matcher = radar_ndt::makeMatcher(radar_ndt::Method::PwNdt, 3.0);
+  const radar_ndt::MatcherAdapter matcher = radar_ndt::makeMatcher(radar_ndt::MatcherOptions::forAutomotive());
   matcher.registration().setInputSource(s2);
   matcher.registration().setInputTarget(t2);
   pcl::PointCloud<radar_ndt::PointRadar> out;

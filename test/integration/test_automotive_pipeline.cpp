@@ -143,8 +143,9 @@ SceneErrors errorsOf(const AutomotiveRunResult& r) {
 /// Runs `options` on `scene`, with `matcher` instead of the method's when given.
 SceneErrors run(const NuScenesDataset& ds, const NuScenesScene& scene, const AutomotiveRunOptions& options,
                 const std::shared_ptr<RadarRegistration>& matcher = nullptr) {
-  return errorsOf(matcher ? runAutomotiveOdometry(ds, scene, options, MatcherAdapter(matcher))
-                          : runAutomotiveOdometry(ds, scene, options));
+  return errorsOf(matcher
+                      ? runAutomotiveOdometry(ds, scene, options, MatcherAdapter(matcher, options.matcher.nominal()))
+                      : runAutomotiveOdometry(ds, scene, options));
 }
 }  // namespace
 
@@ -157,7 +158,7 @@ TEST(AutomotiveOdometry, MatchAddsInformationBeyondTheDopplerIntegralOnRealScene
     GTEST_SKIP() << "no " << root << ": skipping the real-data check";
   const NuScenesDataset ds(root);
   const AutomotiveRunOptions ours;
-  const AutomotiveRunOptions doppler = withMethod(AutomotiveRunOptions(), Method::Doppler);
+  const AutomotiveRunOptions doppler = withMethod(AutomotiveRunOptions(), "doppler");
   SceneErrors sum_ours, sum_doppler;
   std::size_t n = 0;
   for (const auto& scene : ds.scenes()) {

@@ -65,6 +65,15 @@ class PowerRecorder : public RadarRegistration {
   }
 };
 
+/// Every cycle's first attempt runs at this grid.
+constexpr double kGrid = 3.0;
+
+/// A test matcher driven from kGrid.
+template <typename R>
+MatcherAdapter atNominalGrid(const std::shared_ptr<R>& r) {
+  return MatcherAdapter(r, MatchSettings{kGrid, 0.f});
+}
+
 ProcessedCycle constantCycle(std::int64_t t_us, const Eigen::Vector3d& v) {
   ProcessedCycle c;
   c.timestamp_us = t_us;
@@ -84,7 +93,7 @@ ProcessedCycle constantCycle(std::int64_t t_us, const Eigen::Vector3d& v) {
 TEST(AutomotiveOdometry, ImplausibleMatchesAreRetriedThenFallBackToDoppler) {
   auto matcher = pcl::make_shared<JumpingMatcher>();
   AutomotiveOdometryOptions o;
-  AutomotiveOdometry odo(o, matcher);
+  AutomotiveOdometry odo(o, atNominalGrid(matcher));
   const Eigen::Vector3d v(10.0, 0.0, 0.0);
   for (int k = 0; k < 5; ++k) odo.add(constantCycle(k * 75000, v));
   EXPECT_EQ(odo.counters().fallbacks, 4u);
@@ -93,9 +102,9 @@ TEST(AutomotiveOdometry, ImplausibleMatchesAreRetriedThenFallBackToDoppler) {
   ASSERT_EQ(matcher->grids.size(), static_cast<std::size_t>(matcher->calls));
   for (std::size_t i = 0; i < matcher->grids.size(); ++i) {
     const auto attempt = static_cast<double>(i % static_cast<std::size_t>(o.max_retries + 1));
-    EXPECT_NEAR(matcher->grids[i], o.grid + o.grid_step * attempt, 1e-9) << "align " << i;
+    EXPECT_NEAR(matcher->grids[i], kGrid + o.grid_step * attempt, 1e-9) << "align " << i;
   }
-  EXPECT_NEAR(odo.steps().back().grid, o.grid + o.grid_step * o.max_retries, 1e-9);
+  EXPECT_NEAR(odo.steps().back().grid, kGrid + o.grid_step * o.max_retries, 1e-9);
   const auto& last = odo.steps().back();
   EXPECT_EQ(last.status, StepStatus::Fallback);
   EXPECT_NEAR(last.pose.x(), 4 * 0.75, 1e-9);  // the Doppler integral, not the jumps
@@ -103,11 +112,11 @@ TEST(AutomotiveOdometry, ImplausibleMatchesAreRetriedThenFallBackToDoppler) {
   // Without the gate the jumps are accepted: in the paper's mode they are the motion (what plain
   // submap matching does); fused, each pulls the motion part of the way, by the covariances.
   o.gate.enabled = false;
-  AutomotiveOdometry ungated(o.paper(3), pcl::make_shared<JumpingMatcher>());
+  AutomotiveOdometry ungated(o.paper(3), atNominalGrid(pcl::make_shared<JumpingMatcher>()));
   for (int k = 0; k < 5; ++k) ungated.add(constantCycle(k * 75000, v));
   EXPECT_EQ(ungated.counters().fallbacks, 0u);
   EXPECT_NEAR(ungated.steps().back().pose.y(), 8.0, 1e-4);
-  AutomotiveOdometry fused(o, pcl::make_shared<JumpingMatcher>());
+  AutomotiveOdometry fused(o, atNominalGrid(pcl::make_shared<JumpingMatcher>()));
   for (int k = 0; k < 5; ++k) fused.add(constantCycle(k * 75000, v));
   EXPECT_EQ(fused.counters().fallbacks, 0u);
   EXPECT_GT(fused.steps().back().pose.y(), 0.01);
@@ -121,7 +130,7 @@ TEST(AutomotiveOdometry, AGuessReturningMatcherAddsNothingToTheDopplerIntegral) 
   for (const bool paper : {false, true}) {
     AutomotiveOdometryOptions o;
     if (paper) o = o.paper(3);
-    AutomotiveOdometry matched(o, pcl::make_shared<GuessMatcher>());
+    AutomotiveOdometry matched(o, atNominalGrid(pcl::make_shared<GuessMatcher>()));
     AutomotiveOdometry doppler(o, nullptr);
     for (int k = 0; k < 20; ++k) {
       matched.add(constantCycle(k * 75000, v));
@@ -138,20 +147,20 @@ TEST(AutomotiveOdometry, CycleToMapMatchesTheNewCycleAgainstEarlierCyclesOnly) {
   // The source is the newest cycle alone (50 points), the target the earlier ones in the map.
   AutomotiveOdometryOptions o;
   o.map_cycles = 4;
-  AutomotiveOdometry odo(o, pcl::make_shared<GuessMatcher>());
+  AutomotiveOdometry odo(o, atNominalGrid(pcl::make_shared<GuessMatcher>()));
   for (int k = 0; k < 8; ++k) odo.add(constantCycle(k * 75000, Eigen::Vector3d(8.0, 0.0, 0.0)));
   EXPECT_EQ(odo.steps()[1].source_points, 50u);
   EXPECT_EQ(odo.steps()[1].target_points, 50u);
   EXPECT_EQ(odo.steps()[3].target_points, 150u);
   EXPECT_EQ(odo.steps()[7].target_points, 200u) << "at most M = 4 cycles";
   // The paper's mode: submap (N = 3 cycles) to submap.
-  AutomotiveOdometry paper(o.paper(3), pcl::make_shared<GuessMatcher>());
+  AutomotiveOdometry paper(o.paper(3), atNominalGrid(pcl::make_shared<GuessMatcher>()));
   for (int k = 0; k < 8; ++k) paper.add(constantCycle(k * 75000, Eigen::Vector3d(8.0, 0.0, 0.0)));
   EXPECT_EQ(paper.steps()[7].source_points, 150u);
   EXPECT_EQ(paper.steps()[7].target_points, 150u);
-  EXPECT_THROW(parseAutomotiveMatchMode("scan-to-scan"), std::invalid_argument);
-  EXPECT_EQ(parseAutomotiveMatchMode("paper"), AutomotiveMatchMode::SubmapToSubmap);
-  EXPECT_EQ(parseAutomotiveMatchMode(toString(AutomotiveMatchMode::CycleToMap)), AutomotiveMatchMode::CycleToMap);
+  EXPECT_THROW(parseEnum<AutomotiveMatchMode>("scan-to-scan"), std::invalid_argument);
+  EXPECT_EQ(parseEnum<AutomotiveMatchMode>("paper"), AutomotiveMatchMode::SubmapToSubmap);
+  EXPECT_EQ(parseEnum<AutomotiveMatchMode>(toString(AutomotiveMatchMode::CycleToMap)), AutomotiveMatchMode::CycleToMap);
 }
 
 TEST(AutomotiveOdometry, RappWeightsEachCycleAgainstItsOwnMotion) {
@@ -185,7 +194,7 @@ TEST(AutomotiveOdometry, RappWeightsEachCycleAgainstItsOwnMotion) {
   o.doppler_weights = true;
   o.doppler_weight_rounds = 1;
   auto recorder = pcl::make_shared<PowerRecorder>();
-  AutomotiveOdometry odo(o, recorder);
+  AutomotiveOdometry odo(o, atNominalGrid(recorder));
   odo.add(cycle(0, v1, 7));
   odo.add(cycle(static_cast<std::int64_t>(dt * 1e6), v2, -1));
   ASSERT_EQ(recorder->source_power.size(), 1u);
@@ -241,7 +250,7 @@ TEST(AutomotiveOdometry, InvalidVelocityReusesTheLastOne) {
 
 TEST(AutomotiveOdometry, KeepsNoPointerToTheCallersCloud) {
   // The submap copies each cycle's points: after add() returns, the caller's cloud is its own.
-  AutomotiveOdometry odo(AutomotiveOdometryOptions{}, makeMatcher(Method::PwNdt, 3.0));
+  AutomotiveOdometry odo(AutomotiveOdometryOptions{}, makeMatcher(MatcherOptions::forAutomotive()));
   const Eigen::Vector3d v(10.0, 0.0, 0.0);
   for (int k = 0; k < 4; ++k) {
     ProcessedCycle c = constantCycle(k * 75000, v);

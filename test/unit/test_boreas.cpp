@@ -307,10 +307,10 @@ TEST(BoreasDefaults, ChirpScansGetTheirOwnThresholdOthersThePapers) {
   const ScanningRunOptions paper;
   const ScanningRunOptions plain = defaultScanningOptions(ScanningSequence(dir + "/plain", ScanFormat::Boreas));
   EXPECT_EQ(plain.front_end.threshold, paper.front_end.threshold);
-  EXPECT_EQ(plain.odometry.power_shift, paper.odometry.power_shift);
+  EXPECT_EQ(plain.matcher.power_shift, paper.matcher.power_shift);
   const ScanningRunOptions chirps = defaultScanningOptions(ScanningSequence(dir + "/chirps", ScanFormat::Boreas));
   EXPECT_EQ(chirps.front_end.threshold, kBoreasChirpThreshold);
-  EXPECT_EQ(chirps.odometry.power_shift, kBoreasChirpThreshold);
+  EXPECT_EQ(chirps.matcher.power_shift, kBoreasChirpThreshold);
   EXPECT_GT(kBoreasChirpThreshold, paper.front_end.threshold);
 }
 

@@ -62,8 +62,8 @@ TEST(PointCovariance, ReportedRmsIsUsedWhereTheFileHasIt) {
   EXPECT_FLOAT_EQ(cloud[0].cov_xx, 0.25f);
   EXPECT_FLOAT_EQ(cloud[0].cov_yy, 0.04f);
   EXPECT_NEAR(cloud[1].cov_xx, 0.01, 1e-6) << "no rms: the polar model";
-  EXPECT_EQ(parsePointCovarianceModel("polar"), PointCovarianceModel::Polar);
-  EXPECT_EQ(parsePointCovarianceModel("rms"), PointCovarianceModel::ReportedRms);
+  EXPECT_EQ(parseEnum<PointCovarianceModel>("polar"), PointCovarianceModel::Polar);
+  EXPECT_EQ(parseEnum<PointCovarianceModel>("rms"), PointCovarianceModel::ReportedRms);
   EXPECT_STREQ(toString(PointCovarianceModel::ReportedRms), "rms");
-  EXPECT_THROW(parsePointCovarianceModel("spec"), std::invalid_argument);
+  EXPECT_THROW(parseEnum<PointCovarianceModel>("spec"), std::invalid_argument);
 }

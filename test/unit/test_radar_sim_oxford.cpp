@@ -195,8 +195,8 @@ TEST(RadarSimOxford, ProfileReproducesTheRealOxfordScansOnADriveItWasNotCalibrat
       simulated.push_back(measure(s));
     }
     const RealismCheck c = compareRealism(summarize(simulated).median, r, options);
-    for (const auto& f : c.failures) std::printf("  %s: %s\n", sim::toString(profile), f.c_str());
-    std::printf("%s: %zu of %zu fields within the tolerances, error %.1f\n", sim::toString(profile),
+    for (const auto& f : c.failures) std::printf("  %s: %s\n", toString(profile), f.c_str());
+    std::printf("%s: %zu of %zu fields within the tolerances, error %.1f\n", toString(profile),
                 c.fields - c.failures.size(), c.fields, c.error);
     return c;
   };

@@ -13,7 +13,7 @@ namespace {
 ScanningRunResult scanningRun() {
   ScanningRunResult r;
   r.sequence = "seq";
-  r.method = Method::PclNdt;
+  r.method = "pcl-ndt";
   r.period_s = 0.25;
   r.scans_per_second = 40;
   for (int k = 0; k < 3; ++k) {
@@ -78,7 +78,7 @@ TEST(RunReport, SummaryJsonCarriesTheCountsAndTheMetricsInTheSharedShape) {
 
   AutomotiveRunResult a;
   a.scene = "scene-1";
-  a.method = Method::Doppler;
+  a.method = "doppler";
   a.submap_size = 3;
   a.period_s = 0.075;
   a.median_total_ms = 0.75;
@@ -154,12 +154,12 @@ TEST(RunReport, ThePriorIsJudgedAgainstTheTruthAsTheMatchesAre) {
     s.status = k == 0 ? StepStatus::First : StepStatus::Matched;
     const Pose2 truth = between(Pose2(1.0 * (k - 1), 0.0, 0.01 * (k - 1)), Pose2(1.0 * k, 0.0, 0.01 * k));
     s.motion = truth;
-    s.doppler_motion = truth + Pose2(0.1, 0.0, 0.02);
+    s.prior_motion = truth + Pose2(0.1, 0.0, 0.02);
     steps.push_back(s);
   }
   OdometryStep skipped = steps[3];
   skipped.status = StepStatus::Skipped;
-  skipped.doppler_motion = Pose2(50.0, 0.0, 1.0);  // would dominate the mean if counted
+  skipped.prior_motion = Pose2(50.0, 0.0, 1.0);  // would dominate the mean if counted
   steps.insert(steps.begin() + 4, skipped);
   const FrameError prior = priorFrameError(steps, gt);
   EXPECT_EQ(prior.pairs, 5u);

@@ -75,19 +75,40 @@ class RecordingNdt : public WeightedNDT2D<PointRadar, PointRadar> {
   }
 };
 
-std::shared_ptr<RecordingNdt> recordingMatcher(double grid) {
+/// The scanning radars' nominal grid and power shift (MatcherOptions::forScanning), with the 2x2-neighbour
+/// cell lookup the tests were written with.
+constexpr double kGrid = 3.75;
+constexpr float kShift = 0.333f;
+
+/// A matcher at kGrid and kShift, as the scanning pipeline builds pw-ndt but for its cell lookup.
+MatcherAdapter scanningMatcher(const std::string& method = "pw-ndt") {
+  MatcherOptions o;
+  o.method = method;
+  o.grid = kGrid;
+  o.power_shift = kShift;
+  return makeMatcher(o);
+}
+
+/// A RecordingNdt built with another grid and power shift than the odometry's nominal ones: the
+/// adapter (atNominal) must set those.
+std::shared_ptr<RecordingNdt> recordingMatcher() {
   auto r = std::make_shared<RecordingNdt>();
-  WeightedNDT2DSettings s = MatcherOptions::defaultOurs();
-  s.resolutions = {static_cast<float>(grid)};
+  WeightedNDT2DSettings s = MatcherOptions::defaultWeightedNdt();
+  s.resolutions = {1.0f};
+  s.power_shift = 0.05f;
   r->setSettings(s);
-  r->setMaximumIterations(MatcherOptions().ours_max_iterations);
+  r->setMaximumIterations(MatcherOptions().weighted_ndt_max_iterations);
   return r;
+}
+
+MatcherAdapter atNominal(const std::shared_ptr<RecordingNdt>& r) {
+  return MatcherAdapter(r, MatchSettings{kGrid, kShift});
 }
 
 // A drive down street() with the default options and a RecordingNdt, a scan every 250 ms.
 struct RecordedDrive {
   explicit RecordedDrive(unsigned seed)
-      : rng(seed), matcher(recordingMatcher(options.grid)), odometry(options, MatcherAdapter(matcher)) {}
+      : rng(seed), matcher(recordingMatcher()), odometry(options, atNominal(matcher)) {}
   // Adds scan k, seen from (x0, 0); returns the align() calls it made.
   std::vector<RecordingNdt::Call> scan(int k, double x0) {
     const std::size_t before = matcher->calls.size();
@@ -104,20 +125,19 @@ struct RecordedDrive {
 }  // namespace
 
 TEST(ScanningOdometry, EveryMatchRunsWithThePowerShiftOfTheOptions) {
-  // The odometry owns s (eq. 1-2): whatever the matcher was built with, every match of a clean
-  // drive runs at options.power_shift and the nominal grid, and the steps record that.
+  // The matcher's nominal s (eq. 1-2) and grid, whatever it was built with (recordingMatcher): every
+  // match of a clean drive runs at them, and the steps record that.
   RecordedDrive d(11);
-  d.matcher->setPowerShift(0.05f);  // not the odometry's: it must set its own
   for (int k = 0; k < 8; ++k) d.scan(k, 2.0 * k);
   ASSERT_FALSE(d.matcher->calls.empty());
   for (const auto& c : d.matcher->calls) {
-    EXPECT_FLOAT_EQ(c.shift, d.options.power_shift);
-    EXPECT_FLOAT_EQ(c.grid, d.options.grid);
+    EXPECT_FLOAT_EQ(c.shift, kShift);
+    EXPECT_FLOAT_EQ(c.grid, kGrid);
   }
   const auto& steps = d.odometry.steps();
   for (std::size_t k = 1; k < steps.size(); ++k) {
     EXPECT_EQ(steps[k].status, StepStatus::Matched) << "step " << k;
-    EXPECT_FLOAT_EQ(steps[k].power_shift, d.options.power_shift) << "step " << k;
+    EXPECT_FLOAT_EQ(steps[k].power_shift, kShift) << "step " << k;
   }
   EXPECT_NEAR(steps.back().pose.x(), 14.0, 0.3);
 }
@@ -130,8 +150,8 @@ TEST(ScanningOdometry, AFailedMatchClimbsTheLadderThenFallsBackToTheConstantVelo
   RecordedDrive d(12);
   const ScanningOdometryOptions& o = d.options;
   std::vector<RecordingNdt::Call> ladder;
-  for (const float s : {o.power_shift, 0.5f * o.power_shift})
-    for (double g = o.grid;; g += o.grid_step) {
+  for (const float s : {kShift, 0.5f * kShift})
+    for (double g = kGrid;; g += o.grid_step) {
       ladder.push_back({static_cast<float>(g), s});
       if (g > o.max_grid) break;
     }
@@ -150,12 +170,12 @@ TEST(ScanningOdometry, AFailedMatchClimbsTheLadderThenFallsBackToTheConstantVelo
   const OdometryStep& failed = steps[bad];
   EXPECT_EQ(failed.status, StepStatus::Fallback);
   EXPECT_EQ(failed.attempts, static_cast<int>(ladder.size()));
-  EXPECT_EQ(failed.motion, failed.doppler_motion) << "a failed step takes the constant-velocity guess";
+  EXPECT_EQ(failed.motion, failed.prior_motion) << "a failed step takes the constant-velocity guess";
   EXPECT_NEAR(failed.motion.x(), 2.0, 0.1);
   EXPECT_NEAR(failed.motion.y(), 0.0, 0.05);
   EXPECT_EQ(steps[bad + 1].status, StepStatus::Matched);
-  EXPECT_FLOAT_EQ(d.matcher->calls.back().shift, o.power_shift) << "the nominal s again after a halving";
-  EXPECT_FLOAT_EQ(d.matcher->calls.back().grid, o.grid);
+  EXPECT_FLOAT_EQ(d.matcher->calls.back().shift, kShift) << "the nominal s again after a halving";
+  EXPECT_FLOAT_EQ(d.matcher->calls.back().grid, kGrid);
   EXPECT_NEAR(steps.back().pose.x(), 14.0, 0.3);
 }
 
@@ -187,7 +207,7 @@ TEST(ScanningOdometry, BusFillingTheViewTriggersTheFailureHandling) {
   const double step = 2.5;  // 10 m/s at 4 Hz
   ScanningOdometryOptions options;
   options.keyframes.distance = 0;  // scan to scan: every step sees the bus in its target
-  ScanningOdometry odometry(options, makeMatcher(Method::PwNdt, options.grid));
+  ScanningOdometry odometry(options, scanningMatcher());
   for (int k = 0; k < 9; ++k) {
     pcl::PointCloud<PointRadar>::Ptr cloud = observeWorld(world, step * k, rng, noise);
     if (k >= 4)  // the bus: 12 m x 2.5 m beside the car, densely filled and saturated
@@ -227,7 +247,7 @@ TEST(ScanningOdometry, AScenePoorerForGoodCausesNoFallbackStorm) {
   const double step = 2.0;
   const int scans = 40, change = 8;
   ScanningOdometryOptions options;
-  ScanningOdometry odometry(options, makeMatcher(Method::PwNdt, options.grid));
+  ScanningOdometry odometry(options, scanningMatcher());
   for (int k = 0; k < scans; ++k) {
     pcl::PointCloud<PointRadar>::Ptr cloud = observeWorld(world, step * k, rng, noise);
     if (k >= change)
@@ -273,8 +293,8 @@ TEST(ScanningOdometry, KeepsNoPointerToTheCallersCloud) {
       ScanningOdometryOptions options;
       options.compensation.enabled = compensate;
       options.keyframes.distance = keyframe_distance;
-      ScanningOdometry kept(options, makeMatcher(Method::PwNdt, options.grid));
-      ScanningOdometry reused(options, makeMatcher(Method::PwNdt, options.grid));
+      ScanningOdometry kept(options, scanningMatcher());
+      ScanningOdometry reused(options, scanningMatcher());
       std::vector<pcl::PointCloud<PointRadar>::Ptr> kept_clouds;
       for (std::size_t k = 0; k < scans.size(); ++k) {
         kept_clouds.emplace_back(new pcl::PointCloud<PointRadar>(scans[k]));
@@ -304,9 +324,9 @@ TEST(ScanningOdometry, EachCompensationRoundUsesTheVelocityThePreviousMatchFound
   const std::vector<Eigen::Vector2d> world = street();
   ScanningOdometryOptions options;
   options.keyframes.distance = 0;
-  auto matcher = recordingMatcher(options.grid);
+  auto matcher = recordingMatcher();
   matcher->keep_clouds = true;
-  ScanningOdometry odometry(options, MatcherAdapter(matcher));
+  ScanningOdometry odometry(options, atNominal(matcher));
   const double dt = 0.25;
   std::vector<pcl::PointCloud<PointRadar>> raw;
   std::vector<std::size_t> first_match;  // index into matcher->matches of each scan's first align()
@@ -356,9 +376,9 @@ TEST(ScanningOdometry, JointCompensationMatchesTheSourceAsGivenWithTheStepsSweep
   const std::vector<Eigen::Vector2d> world = street();
   ScanningOdometryOptions options;
   options.compensation.mode = CompensationMode::Joint;
-  auto matcher = recordingMatcher(options.grid);
+  auto matcher = recordingMatcher();
   matcher->keep_clouds = true;
-  ScanningOdometry odometry(options, MatcherAdapter(matcher));
+  ScanningOdometry odometry(options, atNominal(matcher));
   std::vector<pcl::PointCloud<PointRadar>> raw;
   std::vector<std::size_t> first_call;
   const double speed = 8.0, dt = 0.25;
@@ -413,11 +433,11 @@ TEST(ScanningOdometry, JointCompensationMatchesTheSourceAsGivenWithTheStepsSweep
 TEST(ScanningOdometry, JointCompensationRefusesAMatcherThatCannotPlaceASweep) {
   ScanningOdometryOptions options;
   options.compensation.mode = CompensationMode::Joint;
-  EXPECT_THROW(ScanningOdometry(options, makeMatcher(Method::PclNdt, options.grid)), std::invalid_argument);
-  EXPECT_NO_THROW(ScanningOdometry(options, makeMatcher(Method::PwNdt, options.grid)));
+  EXPECT_THROW(ScanningOdometry(options, scanningMatcher("pcl-ndt")), std::invalid_argument);
+  EXPECT_NO_THROW(ScanningOdometry(options, scanningMatcher()));
   options.compensation.enabled = false;  // nothing to place: any matcher
-  EXPECT_NO_THROW(ScanningOdometry(options, makeMatcher(Method::PclNdt, options.grid)));
-  EXPECT_EQ(parseCompensationMode("joint"), CompensationMode::Joint);
-  EXPECT_STREQ(toString(parseCompensationMode("rounds")), "rounds");
-  EXPECT_THROW(parseCompensationMode("both"), std::invalid_argument);
+  EXPECT_NO_THROW(ScanningOdometry(options, scanningMatcher("pcl-ndt")));
+  EXPECT_EQ(parseEnum<CompensationMode>("joint"), CompensationMode::Joint);
+  EXPECT_STREQ(toString(parseEnum<CompensationMode>("rounds")), "rounds");
+  EXPECT_THROW(parseEnum<CompensationMode>("both"), std::invalid_argument);
 }

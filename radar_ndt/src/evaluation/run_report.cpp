@@ -92,10 +92,10 @@ std::string stepsCsv(const AutomotiveRunResult& r) {
                          ? between(toPose2(r.ground_truth.poses[k - 1]), toPose2(r.ground_truth.poses[k]))
                          : Pose2::Zero();
     csv << s.timestamp_us << ',' << toString(s.status) << ',' << s.attempts << ',' << s.grid << ',' << s.chi2 << ','
-        << s.motion.x() << ',' << s.motion.y() << ',' << s.motion.z() << ',' << s.doppler_motion.x() << ','
-        << s.doppler_motion.y() << ',' << s.doppler_motion.z() << ',' << s.source_points << ',' << s.target_points
-        << ',' << s.velocity_valid << ',' << gt.x() << ',' << gt.y() << ',' << gt.z() << ',' << s.match_motion.x()
-        << ',' << s.match_motion.y() << ',' << s.match_motion.z() << ',' << s.match_covariance(0, 0) << ','
+        << s.motion.x() << ',' << s.motion.y() << ',' << s.motion.z() << ',' << s.prior_motion.x() << ','
+        << s.prior_motion.y() << ',' << s.prior_motion.z() << ',' << s.source_points << ',' << s.target_points << ','
+        << s.velocity_valid << ',' << gt.x() << ',' << gt.y() << ',' << gt.z() << ',' << s.match_motion.x() << ','
+        << s.match_motion.y() << ',' << s.match_motion.z() << ',' << s.match_covariance(0, 0) << ','
         << s.match_covariance(1, 1) << ',' << s.match_covariance(2, 2) << ',' << s.yaw_rate_bias << '\n';
   }
   return csv.str();
@@ -109,8 +109,8 @@ std::string stepsCsv(const ScanningRunResult& r) {
   for (const OdometryStep& s : r.steps)
     csv << s.timestamp_us << ',' << toString(s.status) << ',' << s.attempts << ',' << s.grid << ',' << s.power_shift
         << ',' << s.compensation_rounds << ',' << s.slow << ',' << s.motion.x() << ',' << s.motion.y() << ','
-        << s.motion.z() << ',' << s.doppler_motion.x() << ',' << s.doppler_motion.y() << ',' << s.doppler_motion.z()
-        << ',' << s.source_points << ',' << s.target_points << ',' << s.match_ms << ',' << s.keyframe << '\n';
+        << s.motion.z() << ',' << s.prior_motion.x() << ',' << s.prior_motion.y() << ',' << s.prior_motion.z() << ','
+        << s.source_points << ',' << s.target_points << ',' << s.match_ms << ',' << s.keyframe << '\n';
   return csv.str();
 }
 
@@ -118,7 +118,7 @@ std::string summaryJson(const AutomotiveRunResult& r, const EvaluationReport* me
   const auto& c = r.counters;
   json j;
   j["scene"] = r.scene;
-  j["method"] = toString(r.method);
+  j["method"] = r.method;
   j["submap"] = r.submap_size;
   j["reference_channel"] = r.reference_channel;
   j["cycles"] = c.cycles;
@@ -145,7 +145,7 @@ std::string summaryJson(const ScanningRunResult& r, const EvaluationReport* metr
   json j;
   j["sequence"] = r.sequence;
   j["format"] = toString(r.format);
-  j["method"] = toString(r.method);
+  j["method"] = r.method;
   j["scans"] = c.cycles;
   j["scan_period_s"] = r.period_s;
   addStepCounts(j, c);
@@ -215,7 +215,7 @@ FrameError priorFrameError(const std::vector<OdometryStep>& steps, const Traject
     const bool covered = gt.poseAt(1e-6 * static_cast<double>(s.timestamp_us), &here);
     if (covered && previous != nullptr && s.status != StepStatus::First) {
       // As frameError: E = guess⁻¹ · truth, its translation norm and rotation angle.
-      const Eigen::Isometry3d E = toIsometry3(s.doppler_motion).inverse() * (previous_gt.inverse() * here);
+      const Eigen::Isometry3d E = toIsometry3(s.prior_motion).inverse() * (previous_gt.inverse() * here);
       st += E.translation().norm();
       sr += rotationAngle(E.linear());
       ++out.pairs;

@@ -11,11 +11,7 @@
 namespace radar_ndt {
 
 void AutomotiveFrontEndOptions::validate() const {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("AutomotiveFrontEndOptions: " + what); };
-  if (!(polar.range_sigma_near > 0) || !(polar.range_sigma_far > 0) || !(polar.azimuth_sigma_center_deg > 0) ||
-      !(polar.azimuth_sigma_edge_deg > 0))
-    fail("the polar accuracies must be > 0");
-  ego_velocity.validate();
+  checkFields(*this, "AutomotiveFrontEndOptions");
 }
 
 namespace {

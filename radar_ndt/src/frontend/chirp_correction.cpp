@@ -94,13 +94,8 @@ Eigen::Vector2d fit(const std::vector<PairShift>& pairs, const std::vector<bool>
 }  // namespace
 
 void ChirpCorrectionOptions::validate() const {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("ChirpCorrectionOptions: " + what); };
-  if (!(max_shift > 0) || !std::isfinite(max_shift)) fail("max_shift must be > 0");
-  if (!(min_range >= 0) || !(max_range > min_range) || !std::isfinite(max_range))
-    fail("min_range must be >= 0 and max_range > min_range");
-  if (!(top_share > 0 && top_share <= 1)) fail("top_share must be in (0, 1]");
-  if (min_pairs < 2) fail("min_pairs must be >= 2");
-  if (!(min_peak >= 0 && min_peak < 1)) fail("min_peak must be in [0, 1)");
+  checkFields(*this, "ChirpCorrectionOptions");
+  if (!(max_range > min_range)) throw std::invalid_argument("ChirpCorrectionOptions: max_range must exceed min_range");
 }
 
 ChirpShiftEstimate estimateChirpShift(const PolarScan& scan, const ChirpCorrectionOptions& options) {

@@ -234,31 +234,8 @@ double predictedDoppler(const SensorMounting& m, double px, double py, const Eig
   return modelRow(m, px, py, a) ? a.dot(v) : 0.0;
 }
 
-EgoVelocityModel parseEgoVelocityModel(const std::string& name) {
-  if (name == "auto") return EgoVelocityModel::Auto;
-  if (name == "full") return EgoVelocityModel::Full;
-  if (name == "nonholonomic") return EgoVelocityModel::Nonholonomic;
-  throw std::invalid_argument("unknown ego-velocity model '" + name + "' (auto, full, nonholonomic)");
-}
-
-const char* toString(EgoVelocityModel model) {
-  switch (model) {
-    case EgoVelocityModel::Auto: return "auto";
-    case EgoVelocityModel::Full: return "full";
-    case EgoVelocityModel::Nonholonomic: return "nonholonomic";
-  }
-  return "?";
-}
-
 void EgoVelocityOptions::validate() const {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("EgoVelocityOptions: " + what); };
-  if (!(inlier_threshold > 0) || !std::isfinite(inlier_threshold))
-    fail("inlier_threshold (the Doppler threshold, m/s) must be > 0, got " + std::to_string(inlier_threshold));
-  if (max_iterations < 1) fail("max_iterations must be >= 1");
-  if (min_inliers < 2) fail("min_inliers must be >= 2");
-  if (!(min_inlier_ratio >= 0 && min_inlier_ratio <= 1)) fail("min_inlier_ratio must be in [0, 1]");
-  if (!(lateral_sigma >= 0) || !std::isfinite(lateral_sigma))
-    fail("lateral_sigma must be >= 0 (0: no prior), got " + std::to_string(lateral_sigma));
+  checkFields(*this, "EgoVelocityOptions");
 }
 
 EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cloud,

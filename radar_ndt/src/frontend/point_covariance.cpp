@@ -7,16 +7,6 @@
 
 namespace radar_ndt {
 
-PointCovarianceModel parsePointCovarianceModel(const std::string& name) {
-  if (name == "polar") return PointCovarianceModel::Polar;
-  if (name == "rms") return PointCovarianceModel::ReportedRms;
-  throw std::invalid_argument("unknown point covariance model '" + name + "' (polar or rms)");
-}
-
-const char* toString(PointCovarianceModel model) {
-  return model == PointCovarianceModel::Polar ? "polar" : "rms";
-}
-
 Eigen::Matrix2d polarCovariance(double x, double y, const PolarAccuracy& a) {
   const double r = std::hypot(x, y);
   const double az = std::atan2(y, x);

@@ -105,15 +105,10 @@ struct PowerThreshold::Geometry {
 };
 
 void PowerThresholdOptions::validate() const {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("PowerThresholdOptions: " + what); };
-  if (!(cartesian_resolution > 0) || !std::isfinite(cartesian_resolution))
-    fail("cartesian_resolution (m per pixel) must be > 0, got " + std::to_string(cartesian_resolution));
-  if (!(min_range >= 0)) fail("min_range must be >= 0, got " + std::to_string(min_range));
-  if (!(max_range > min_range) || !std::isfinite(max_range))
-    fail("max_range must exceed min_range (" + std::to_string(min_range) + " m), got " + std::to_string(max_range));
-  if (!(threshold >= 0.0f && threshold < 1.0f))
-    fail("threshold must be in [0, 1) (power is 0..1), got " + std::to_string(threshold));
-  if (!(beam_width_deg > 0) || !std::isfinite(beam_width_deg)) fail("beam_width_deg must be > 0");
+  checkFields(*this, "PowerThresholdOptions");
+  if (!(max_range > min_range))
+    throw std::invalid_argument("PowerThresholdOptions: max_range must exceed min_range (" + std::to_string(min_range) +
+                                " m), got " + std::to_string(max_range));
 }
 
 /// The geometry last built, behind a lock: a thread that finds it matching its scan takes a

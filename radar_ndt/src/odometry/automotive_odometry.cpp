@@ -11,16 +11,6 @@ namespace radar_ndt {
 
 using detail::msSince;
 
-AutomotiveMatchMode parseAutomotiveMatchMode(const std::string& name) {
-  if (name == "cycle-to-map") return AutomotiveMatchMode::CycleToMap;
-  if (name == "submap-to-submap" || name == "paper") return AutomotiveMatchMode::SubmapToSubmap;
-  throw std::invalid_argument("unknown automotive match mode '" + name + "' (cycle-to-map, submap-to-submap or paper)");
-}
-
-const char* toString(AutomotiveMatchMode mode) {
-  return mode == AutomotiveMatchMode::CycleToMap ? "cycle-to-map" : "submap-to-submap";
-}
-
 AutomotiveOdometryOptions AutomotiveOdometryOptions::paper(std::size_t n) const {
   AutomotiveOdometryOptions o = *this;
   o.mode = AutomotiveMatchMode::SubmapToSubmap;
@@ -30,16 +20,7 @@ AutomotiveOdometryOptions AutomotiveOdometryOptions::paper(std::size_t n) const 
 }
 
 void AutomotiveOdometryOptions::validate() const {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("AutomotiveOdometryOptions: " + what); };
-  if (submap_size < 1) fail("submap_size must be >= 1");
-  if (map_cycles < 1) fail("map_cycles must be >= 1");
-  if (!(grid > 0) || !std::isfinite(grid)) fail("grid must be > 0, got " + std::to_string(grid));
-  if (!(grid_step >= 0) || !std::isfinite(grid_step)) fail("grid_step must be >= 0");
-  if (max_retries < 0) fail("max_retries must be >= 0");
-  if (!(stale_velocity_sigma >= 0)) fail("stale_velocity_sigma must be >= 0");
-  if (!(doppler_weight_sigma > 0)) fail("doppler_weight_sigma must be > 0");
-  gate.validate();
-  fusion.validate();
+  checkFields(*this, "AutomotiveOdometryOptions");
 }
 
 AutomotiveOdometry::AutomotiveOdometry(const AutomotiveOdometryOptions& options, MatcherAdapter matcher)
@@ -51,13 +32,9 @@ AutomotiveOdometry::AutomotiveOdometry(const AutomotiveOdometryOptions& options,
       map_(options.map_cycles),
       fusion_(options.fusion) {
   options_.validate();
-  // The odometry owns the grid: every cycle's first attempt runs at the nominal one, the first
-  // cycle's too, whatever the matcher was built with (PCL's ICP: an unbounded correspondence
-  // distance).
-  if (matcher_) matcher_.setGrid(options_.grid);
   // The fusion trusts a match as calibrated for the matcher that makes it.
-  if (matcher_.ours())
-    calibration_ = options_.doppler_weights ? MatchCalibration::Rapp : MatchCalibration::Ours;
+  if (matcher_.weightedNdt())
+    calibration_ = options_.doppler_weights ? MatchCalibration::Rapp : MatchCalibration::WeightedNdt;
   else
     calibration_ = matcher_.gridIsResolution() ? MatchCalibration::PclNdt : MatchCalibration::PclIcp;
 }
@@ -123,10 +100,10 @@ const OdometryStep& AutomotiveOdometry::addFirstCycle(const ProcessedCycle& cycl
 
 MotionEstimate AutomotiveOdometry::dopplerPrior(double dt, OdometryStep& step) {
   // The Doppler motion and, fused, its bias-corrected prediction: the matcher's initial guess.
-  step.doppler_motion = submap_.lastMotion();
-  step.doppler_covariance = submap_.lastMotionCovariance();
-  MotionEstimate prior{step.doppler_motion, step.doppler_covariance};
-  if (options_.fuse_doppler) prior = fusion_.predict(step.doppler_motion, step.doppler_covariance, dt);
+  step.prior_motion = submap_.lastMotion();
+  step.prior_covariance = submap_.lastMotionCovariance();
+  MotionEstimate prior{step.prior_motion, step.prior_covariance};
+  if (options_.fuse_doppler) prior = fusion_.predict(step.prior_motion, step.prior_covariance, dt);
   return prior;
 }
 
@@ -176,11 +153,11 @@ Pose2 AutomotiveOdometry::matchWithRetries(const ProcessedCycle& cycle, const pc
   Pose2 motion = guess;
   bool ok = false;
   for (int attempt = 0; attempt <= options_.max_retries && !ok; ++attempt) {
-    const double g = options_.grid + options_.grid_step * attempt;
+    const double g = matcher_.nominal().grid + options_.grid_step * attempt;
     if (attempt == 0)
       matcher.setInputTarget(target);  // builds the target model at the nominal grid
     else
-      matcher_.setGrid(g);  // rebuilds it, enlarged
+      matcher_.apply({g, matcher_.nominal().power_shift});  // rebuilds it, enlarged
     Pose2 estimate = guess;
     const int rounds = options_.doppler_weights ? std::max(1, options_.doppler_weight_rounds) : 1;
     bool converged = false;
@@ -207,7 +184,7 @@ Pose2 AutomotiveOdometry::matchWithRetries(const ProcessedCycle& cycle, const pc
     motion = guess;
   }
   step.match_ms = msSince(t0);
-  if (step.grid != options_.grid) matcher_.setGrid(options_.grid);
+  matcher_.apply(matcher_.nominal());
   return motion;
 }
 

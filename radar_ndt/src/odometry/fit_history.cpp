@@ -8,8 +8,7 @@
 namespace radar_ndt {
 
 void FitCheckOptions::validate() const {
-  if (!(min_relative_fit >= 0) || !std::isfinite(min_relative_fit))
-    throw std::invalid_argument("FitCheckOptions: min_relative_fit must be >= 0 (0: off)");
+  checkFields(*this, "FitCheckOptions");
 }
 
 bool FitHistory::accepts(double fit) const {

@@ -6,8 +6,7 @@
 namespace radar_ndt {
 
 void KeyframeOptions::validate() const {
-  if (!(distance >= 0)) throw std::invalid_argument("KeyframeOptions: distance must be >= 0 (0: scan to scan)");
-  if (!(rotation >= 0)) throw std::invalid_argument("KeyframeOptions: rotation must be >= 0");
+  checkFields(*this, "KeyframeOptions");
 }
 
 bool KeyframePolicy::replaceAfter(bool matched, const Pose2& pose, bool keyframe_usable) {

@@ -9,19 +9,8 @@
 
 namespace radar_ndt {
 
-CompensationMode parseCompensationMode(const std::string& name) {
-  if (name == "rounds") return CompensationMode::Rounds;
-  if (name == "joint") return CompensationMode::Joint;
-  throw std::invalid_argument("compensation mode must be rounds or joint, not '" + name + "'");
-}
-
-const char* toString(CompensationMode mode) {
-  return mode == CompensationMode::Joint ? "joint" : "rounds";
-}
-
 void MotionCompensationOptions::validate() const {
-  if (max_rounds < 1) throw std::invalid_argument("MotionCompensationOptions: max_rounds must be >= 1");
-  if (!(tolerance >= 0)) throw std::invalid_argument("MotionCompensationOptions: tolerance must be >= 0");
+  checkFields(*this, "MotionCompensationOptions");
 }
 
 void compensateMotion(const pcl::PointCloud<PointRadar>& in, const Pose2& velocity, pcl::PointCloud<PointRadar>& out) {

@@ -10,24 +10,7 @@
 namespace radar_ndt {
 
 void MotionFusionOptions::validate() const {
-  auto check = [](double v, const char* name, bool positive) {
-    if (!std::isfinite(v) || v < 0 || (positive && v == 0))
-      throw std::invalid_argument(std::string("MotionFusionOptions: ") + name +
-                                  (positive ? " must be > 0" : " must be >= 0") + ", got " + std::to_string(v));
-  };
-  check(doppler_sigma_x, "doppler_sigma_x", true);
-  check(doppler_sigma_y, "doppler_sigma_y", true);
-  check(doppler_sigma_yaw, "doppler_sigma_yaw", true);
-  check(match_covariance_scale, "match_covariance_scale", true);
-  check(match_sigma_x, "match_sigma_x", true);
-  check(match_sigma_y, "match_sigma_y", true);
-  check(match_sigma_yaw, "match_sigma_yaw", true);
-  check(rapp_covariance_scale, "rapp_covariance_scale", true);
-  check(icp_sigma_x, "icp_sigma_x", true);
-  check(icp_sigma_y, "icp_sigma_y", true);
-  check(icp_sigma_yaw, "icp_sigma_yaw", true);
-  check(yaw_rate_bias_sigma, "yaw_rate_bias_sigma", false);
-  check(yaw_rate_bias_walk, "yaw_rate_bias_walk", false);
+  checkFields(*this, "MotionFusionOptions");
 }
 
 MotionFusion::MotionFusion(const MotionFusionOptions& options) : options_(options) {

@@ -16,10 +16,7 @@ void requireNonNegative(const char* owner, const char* name, double v) {
 }  // namespace
 
 void AutomotiveMotionGateOptions::validate() const {
-  requireNonNegative("AutomotiveMotionGateOptions", "max_acceleration", max_acceleration);
-  requireNonNegative("AutomotiveMotionGateOptions", "match_sigma_xy", match_sigma_xy);
-  requireNonNegative("AutomotiveMotionGateOptions", "match_sigma_yaw", match_sigma_yaw);
-  if (!(chi2_threshold > 0)) throw std::invalid_argument("AutomotiveMotionGateOptions: chi2_threshold must be > 0");
+  checkFields(*this, "AutomotiveMotionGateOptions");
 }
 
 bool AutomotiveMotionGate::accept(const Pose2& motion, const Pose2& guess, const Eigen::Matrix3d& guess_cov, double dt,
@@ -51,10 +48,7 @@ bool AutomotiveMotionGate::accept(const Pose2& motion, const Pose2& guess, const
 }
 
 void ScanningMotionGateOptions::validate() const {
-  requireNonNegative("ScanningMotionGateOptions", "max_acceleration", max_acceleration);
-  requireNonNegative("ScanningMotionGateOptions", "max_yaw_acceleration", max_yaw_acceleration);
-  requireNonNegative("ScanningMotionGateOptions", "match_sigma_xy", match_sigma_xy);
-  requireNonNegative("ScanningMotionGateOptions", "match_sigma_yaw", match_sigma_yaw);
+  checkFields(*this, "ScanningMotionGateOptions");
 }
 
 bool ScanningMotionGate::accept(const Pose2& motion, double dt, double mid_time) const {

@@ -69,7 +69,7 @@ const OdometryStep& StepLog::bridge(std::int64_t timestamp_us, const ConstantVel
   }
   if (timestamp_us <= prev->timestamp_us) return addSkipped(step, *prev);
   const double dt = 1e-6 * static_cast<double>(timestamp_us - prev->timestamp_us);
-  step.motion = step.doppler_motion = model.predict(dt);
+  step.motion = step.prior_motion = model.predict(dt);
   step.pose = compose(prev->pose, step.motion);
   step.status = StepStatus::Bridged;
   return add(step);

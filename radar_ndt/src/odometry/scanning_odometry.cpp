@@ -13,21 +13,7 @@ namespace radar_ndt {
 using detail::msSince;
 
 void ScanningOdometryOptions::validate() const {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("ScanningOdometryOptions: " + what); };
-  if (!(grid > 0) || !std::isfinite(grid)) fail("grid must be > 0, got " + std::to_string(grid));
-  if (!(grid_step > 0) || !std::isfinite(grid_step)) fail("grid_step must be > 0");
-  if (!(max_grid >= 0) || !std::isfinite(max_grid)) fail("max_grid must be >= 0 and finite");
-  if (!(power_shift >= 0.0f && power_shift < 1.0f))
-    fail("power_shift must be in [0, 1), got " + std::to_string(power_shift));
-  if (max_shift_halvings < 0) fail("max_shift_halvings must be >= 0");
-  if (!(slow_speed >= 0)) fail("slow_speed must be >= 0");
-  if (!(slow_grid > 0) || !std::isfinite(slow_grid)) fail("slow_grid must be > 0");
-  for (const double h : start_hypotheses)
-    if (!std::isfinite(h)) fail("start_hypotheses must be finite");
-  gate.validate();
-  compensation.validate();
-  keyframes.validate();
-  fit.validate();
+  checkFields(*this, "ScanningOdometryOptions");
 }
 
 ScanningOdometry::ScanningOdometry(const ScanningOdometryOptions& options, MatcherAdapter matcher)
@@ -39,13 +25,10 @@ ScanningOdometry::ScanningOdometry(const ScanningOdometryOptions& options, Match
       compensated_(new pcl::PointCloud<PointRadar>) {
   options_.validate();
   if (options_.compensation.enabled && options_.compensation.mode == CompensationMode::Joint && matcher_ &&
-      !matcher_.ours())
+      !matcher_.weightedNdt())
     throw std::invalid_argument(
         "ScanningOdometry: compensation mode joint places the source's points inside the match, which only "
         "WeightedNDT2D (pw-ndt) does; use rounds with another matcher");
-  // The odometry owns the grid, whatever the matcher was built with (prepareMatcher changes it per
-  // step: the slow grid, the retry ladder).
-  if (matcher_) setGrid(options_.grid);
 }
 
 const OdometryStep& ScanningOdometry::addScan(const ScanFrame& scan) {
@@ -57,9 +40,9 @@ const OdometryStep& ScanningOdometry::addScan(const ScanFrame& scan) {
   if (!prev) return addFirstScan(scan, step);
 
   const double dt = 1e-6 * static_cast<double>(scan.timestamp_us - prev->timestamp_us);
-  step.doppler_motion = motion_model_.predict(dt);  // constant velocity
+  step.prior_motion = motion_model_.predict(dt);  // constant velocity
   step.target_points = target_.size();
-  Pose2 motion = step.doppler_motion;
+  Pose2 motion = step.prior_motion;
   const auto t0 = detail::Clock::now();
   if (!matcher_ || step.source_points < options_.min_points || step.target_points < options_.min_points) {
     step.status = StepStatus::DeadReckoned;
@@ -90,7 +73,7 @@ Pose2 ScanningOdometry::matchWithFailureHandling(const ScanFrame& scan, const Od
   const ScanningOdometryOptions& o = options_;
   // Nominal settings for this step, then the new target: one model build (settings are lazy).
   step.slow = motion_model_.hasVelocity() && motion_model_.velocity().head<2>().norm() < o.slow_speed;
-  const double g0 = step.slow ? o.slow_grid : o.grid;
+  const double g0 = step.slow ? o.slow_grid : matcher_.nominal().grid;
   prepareMatcher(g0);
   Attempt a;
   a.raw = scan.cloud.get();
@@ -98,9 +81,9 @@ Pose2 ScanningOdometry::matchWithFailureHandling(const ScanFrame& scan, const Od
   a.prev_in_keyframe = a.target_is_previous ? Pose2::Zero() : between(keyframes_.pose(), prev.pose);
   a.dt = dt;
   a.mid_time = 1e-6 * static_cast<double>(prev.timestamp_us) + 0.5 * dt;
-  Pose2 guess = step.doppler_motion;
+  Pose2 guess = step.prior_motion;
   if (!motion_model_.hasVelocity() && !o.start_hypotheses.empty())
-    step.doppler_motion = guess = bestStartHypothesis(scan, guess);
+    step.prior_motion = guess = bestStartHypothesis(scan, guess);
 
   Pose2 motion;
   if (runRetryLadder(a, guess, g0, step, &motion)) {
@@ -110,23 +93,12 @@ Pose2 ScanningOdometry::matchWithFailureHandling(const ScanFrame& scan, const Od
     step.status = StepStatus::Fallback;
     motion = guess;
   }
-  step.shift_halved = matcher_shift_ >= 0 && matcher_shift_ != o.power_shift;
+  step.shift_halved = matcher_.hasPowerWeights() && matcher_.current().power_shift != matcher_.nominal().power_shift;
   return motion;
 }
 
-void ScanningOdometry::setGrid(double grid) {
-  matcher_.setGrid(matcher_grid_ = grid);
-}
-
-bool ScanningOdometry::setPowerShift(float shift) {
-  if (!matcher_.setPowerShift(shift, options_.shift_source_weights)) return false;  // no power weights
-  matcher_shift_ = shift;
-  return true;
-}
-
 void ScanningOdometry::prepareMatcher(double grid) {
-  if (matcher_grid_ != grid) setGrid(grid);
-  if (matcher_shift_ != options_.power_shift) setPowerShift(options_.power_shift);
+  matcher_.apply({grid, matcher_.nominal().power_shift});
   target_.giveTo(matcher_.registration());
 }
 
@@ -137,7 +109,7 @@ Pose2 ScanningOdometry::bestStartHypothesis(const ScanFrame& scan, const Pose2& 
   RadarRegistration& matcher = matcher_.registration();
   Pose2 best_guess = guess;
   double best = -std::numeric_limits<double>::infinity();
-  *compensated_ = *scan.cloud;  // the matcher keeps its source: ours, not the caller's
+  *compensated_ = *scan.cloud;  // the matcher keeps its source: this copy, not the caller's
   matcher.setInputSource(compensated_);
   for (const double h : options_.start_hypotheses) {
     matcher.align(aligned_, toMatrix4<float>(Pose2(h, 0, 0)));
@@ -155,15 +127,16 @@ Pose2 ScanningOdometry::bestStartHypothesis(const ScanFrame& scan, const Pose2& 
 bool ScanningOdometry::runRetryLadder(const Attempt& a, const Pose2& guess, double nominal_grid, OdometryStep& step,
                                       Pose2* motion) {
   const ScanningOdometryOptions& o = options_;
+  const MatchSettings nominal_settings = matcher_.nominal();
   for (int halving = 0; halving <= o.max_shift_halvings; ++halving) {
-    if (halving > 0 && !setPowerShift(o.power_shift * std::pow(0.5f, static_cast<float>(halving))))
-      return false;  // no power weights: nothing to halve
+    if (halving > 0 && !matcher_.hasPowerWeights()) return false;  // nothing to halve
+    const float shift = nominal_settings.power_shift * std::pow(0.5f, static_cast<float>(halving));
     for (double g = nominal_grid;; g += o.grid_step) {
-      if (matcher_grid_ != g) setGrid(g);
+      matcher_.apply({g, shift});
       ++step.attempts;
       step.grid = g;
-      step.power_shift = matcher_shift_ < 0 ? 0.f : matcher_shift_;
-      const bool nominal = halving == 0 && g == o.grid;
+      step.power_shift = matcher_.current().power_shift;
+      const bool nominal = halving == 0 && g == nominal_settings.grid;
       Pose2 estimate;
       if (attempt(a, guess, step, &estimate)) {
         // The fit is judged at the nominal settings only (scores grow with the grid and with the
@@ -187,15 +160,14 @@ bool ScanningOdometry::refineAtNominal(const Attempt& a, OdometryStep& step, Pos
   // grid or power shift, usually wrong by decimetres and with a yaw error the fallbacks after it
   // carry on. It is refined at the nominal settings, where its fit can be judged against recent
   // matches, and the refined match must pass both checks; otherwise the step falls back.
-  setGrid(options_.grid);
-  setPowerShift(options_.power_shift);
+  matcher_.apply(matcher_.nominal());
   ++step.attempts;
   const Pose2 candidate = *estimate;
   return attempt(a, candidate, step, estimate);
 }
 
 bool ScanningOdometry::fitsLikeRecentMatches(bool judged, OdometryStep& step) {
-  const double fit = matcher_.fitPerPoint();  // NaN: not ours, nothing to judge
+  const double fit = matcher_.fitPerPoint();  // NaN: not WeightedNDT2D, nothing to judge
   if (!judged || !std::isfinite(fit)) return true;
   // Judged before it enters the history (FitHistory: refused fits enter it too).
   const bool fits = fits_.accepts(fit);
@@ -228,13 +200,13 @@ bool ScanningOdometry::matchScan(const Attempt& a, const Pose2& guess, Pose2* es
   // (from the previous scan, at prev_in_keyframe, over dt); only the target is compensated here.
   const bool joint = compensate && c.mode == CompensationMode::Joint;
   struct SweepScope {  // the matcher is rigid again whatever way this returns
-    MatcherAdapter::Ours* ours;
+    MatcherAdapter::WeightedNdt* weighted_ndt;
     ~SweepScope() {
-      if (ours) ours->clearSourceSweep();
+      if (weighted_ndt) weighted_ndt->clearSourceSweep();
     }
-  } sweep{joint ? matcher_.ours() : nullptr};
+  } sweep{joint ? matcher_.weightedNdt() : nullptr};
   if (joint) {
-    sweep.ours->setSourceSweep(a.dt, a.prev_in_keyframe);
+    sweep.weighted_ndt->setSourceSweep(a.dt, a.prev_in_keyframe);
     *compensated_ = *a.raw;
     matcher.setInputSource(compensated_);
   }
@@ -251,7 +223,7 @@ bool ScanningOdometry::matchScan(const Attempt& a, const Pose2& guess, Pose2* es
       }
       ++*rounds;
     } else {
-      *compensated_ = *a.raw;  // the matcher keeps its source: ours, not the caller's
+      *compensated_ = *a.raw;  // the matcher keeps its source: this copy, not the caller's
       matcher.setInputSource(compensated_);
     }
     matcher.align(aligned_, toMatrix4<float>(compose(a.prev_in_keyframe, est)));

@@ -20,37 +20,29 @@ double ms(Clock::time_point a, Clock::time_point b) {
 }  // namespace
 
 void AutomotiveRunOptions::validate() const {
+  checkFields(*this, "AutomotiveRunOptions");
   // A method is more than its matcher (withMethod): a half-set combination is refused, not run.
-  const bool rapp = matcher.method == Method::RappNdt;
-  if (rapp != odometry.doppler_weights)
+  const bool doppler_weights = findMatcher(matcher.method).uses.doppler_weights;
+  if (doppler_weights != odometry.doppler_weights)
     throw std::invalid_argument(std::string("AutomotiveRunOptions: odometry.doppler_weights must be ") +
-                                (rapp ? "true" : "false") + " for method " + toString(matcher.method) +
+                                (doppler_weights ? "true" : "false") + " for method " + matcher.method +
                                 " (withMethod sets it)");
-  if (rapp && front_end.remove_moving)
-    throw std::invalid_argument(
-        "AutomotiveRunOptions: front_end.remove_moving must be false for method rapp-ndt: its Doppler weights "
-        "handle the moving detections (withMethod sets it)");
-  matcher.validate();
-  sequence.validate();
-  front_end.validate();
-  odometry.validate();
-  if (threads < 0) throw std::invalid_argument("AutomotiveRunOptions: threads must be >= 0 (0: every core)");
+  if (doppler_weights && front_end.remove_moving)
+    throw std::invalid_argument("AutomotiveRunOptions: front_end.remove_moving must be false for method " +
+                                matcher.method +
+                                ": its Doppler weights handle the moving detections (withMethod sets it)");
 }
 
-AutomotiveRunOptions withMethod(AutomotiveRunOptions options, Method method) {
+AutomotiveRunOptions withMethod(AutomotiveRunOptions options, const std::string& method) {
+  const MatcherUses& uses = findMatcher(method).uses;
   options.matcher.method = method;
-  options.odometry.doppler_weights = method == Method::RappNdt;
-  if (method == Method::RappNdt) options.front_end.remove_moving = false;
+  options.odometry.doppler_weights = uses.doppler_weights;
+  if (uses.doppler_weights) options.front_end.remove_moving = false;
   return options;
 }
 
-MatchCalibration matchCalibrationOf(Method method) {
-  switch (method) {
-    case Method::RappNdt: return MatchCalibration::Rapp;
-    case Method::PclNdt: return MatchCalibration::PclNdt;
-    case Method::PclIcp: return MatchCalibration::PclIcp;
-    default: return MatchCalibration::Ours;
-  }
+MatchCalibration matchCalibrationOf(const std::string& method) {
+  return findMatcher(method).calibration;
 }
 
 AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,

@@ -10,6 +10,7 @@
 #include "detail/run_timing.h"
 #include "pipeline/ordered_pipeline.h"
 #include "pipeline/scan_pipeline.h"
+#include "radar_ndt/odometry/matcher_registry.h"
 #include "radar_ndt/odometry/motion_compensation.h"
 #include "radar_ndt/se2.h"
 
@@ -20,17 +21,14 @@ using detail::median;
 using detail::msBetween;
 
 void ScanningRunOptions::validate() const {
-  if (matcher.method == Method::Doppler || matcher.method == Method::RappNdt)
-    throw std::invalid_argument(std::string("method ") + toString(matcher.method) +
-                                " needs Doppler, which scanning radars do not measure (pw-ndt, pcl-ndt, pcl-icp)");
-  matcher.validate();
-  sequence.validate();
-  front_end.validate();
-  chirp.validate();
-  odometry.validate();
-  if (!(pcl_voxel_size >= 0) || !std::isfinite(pcl_voxel_size))
-    throw std::invalid_argument("ScanningRunOptions: pcl_voxel_size must be >= 0 (0: full scans)");
-  if (threads < 0) throw std::invalid_argument("ScanningRunOptions: threads must be >= 0 (0: every core)");
+  checkFields(*this, "ScanningRunOptions");
+  if (findMatcher(matcher.method).uses.needs_doppler) {
+    std::string others;
+    for (const std::string& name : matcherNames())
+      if (!findMatcher(name).uses.needs_doppler) others += (others.empty() ? "" : ", ") + name;
+    throw std::invalid_argument("method " + matcher.method + " needs Doppler, which scanning radars do not measure (" +
+                                others + ")");
+  }
 }
 
 namespace {
@@ -117,7 +115,7 @@ ScanningRunOptions defaultScanningOptions(const ScanningSequence& sequence) {
   }
   if (chirps) {
     o.front_end.threshold = kBoreasChirpThreshold;
-    o.odometry.power_shift = kBoreasChirpThreshold;  // the paper's s equals its threshold
+    o.matcher.power_shift = kBoreasChirpThreshold;  // the paper's s equals its threshold
   }
   return o;
 }
@@ -136,7 +134,8 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
   ScanningRunResult result = startResult(sequence, options);
   ScanSamples samples;
   const auto wall0 = Clock::now();
-  const double voxel = options.matcher.method == Method::PwNdt ? 0.0 : options.pcl_voxel_size;
+  // A matcher that merges its source itself gets the full scans; the others merged points.
+  const double voxel = findMatcher(options.matcher.method).uses.merges_source ? 0.0 : options.pcl_voxel_size;
   std::int64_t last_stamp_us = 0;  // of the last scan that was matched (or dead-reckoned)
   // Scans are prepared on the worker threads and matched here in order, one at a time.
   detail::forEachPreparedScan(

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <string>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/io/polar_scan.h"
 
 namespace radar_ndt {
@@ -42,6 +43,14 @@ enum class BoreasFlag {
   Validity,   ///< 255: measured azimuth; else interpolated (Boreas before the chirp upgrade)
   ChirpType,  ///< 255: up-chirp; 0: down-chirp
 };
+template <>
+struct EnumNames<BoreasFlag> {
+  static constexpr const char* what = "Boreas flag byte";
+  static constexpr EnumName<BoreasFlag> names[] = {
+      {BoreasFlag::Auto, "auto", "chirp types when the byte alternates 0/255 row by row, else validity"},
+      {BoreasFlag::Validity, "validity", "255: measured azimuth"},
+      {BoreasFlag::ChirpType, "chirp-type", "255: up-chirp, 0: down-chirp"}};
+};
 
 struct BoreasPolarOptions {
   /// m per bin; 0: by the file name's time as the SDK decides (boreasRangeResolution).
@@ -57,7 +66,29 @@ struct BoreasPolarOptions {
   int expected_bins = 0;
   /// Throws std::invalid_argument naming the setting out of range.
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void BoreasPolarOptions::fields(Visit&& visit) {
+  using S = BoreasPolarOptions;
+  visit(&S::range_resolution, Field("range_resolution",
+                                    "range bin size; 0: by the scan's date as the SDK decides (0.0596 m before "
+                                    "2021-09-21, 0.04381 m after)")
+                                  .unit("m")
+                                  .atLeast(0)
+                                  .cli("bin-size"));
+  visit(&S::range_offset_bins, Field("range_offset_bins", "bin b at (b + offset) · resolution, as the SDK samples"));
+  visit(&S::zero_below, Field("zero_below", "bins nearer than this zeroed, as the SDK's loader").unit("m").atLeast(0));
+  visit(&S::encoder_size, Field("encoder_size", "encoder counts a turn").atLeast(1));
+  visit(&S::flag, Field("flag", "what each row's flag byte is"));
+  visit(&S::expected_bins,
+        Field("expected_bins", "range bins a row must have (the sensors write 3360 and 6848); 0: any")
+            .atLeast(0)
+            .cli("bins"));
+}
 
 /// Reads a Boreas polar PNG (8-bit grayscale). Azimuth angles go to the vehicle frame (the encoder
 /// turns clockwise seen from above from x forward; see polar_scan.h). The scan stamp is the file

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <pcl/point_cloud.h>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/point_types.h"
 
 namespace radar_ndt {
@@ -28,7 +29,20 @@ struct NuScenesRadarFilter {
   std::vector<int> invalid_states{0, 4, 8, 9, 10, 11, 12, 15, 16, 17};
   std::vector<int> dyn_props{};
   std::vector<int> ambig_states{3};
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void NuScenesRadarFilter::fields(Visit&& visit) {
+  using S = NuScenesRadarFilter;
+  visit(&S::max_range,
+        Field("max_range", "detections beyond this range dropped").unit("m").positive().cli("max-range"));
+  visit(&S::invalid_states, Field("invalid_states", "invalid_state values dropped"));
+  visit(&S::dyn_props, Field("dyn_props", "dyn_prop values dropped"));
+  visit(&S::ambig_states, Field("ambig_states", "ambig_state values dropped"));
+}
 
 struct NuScenesPcdStats {
   std::size_t points_in_file = 0;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/radar_cycle.h"
 #include "radar_ndt/io/trajectory_io.h"
@@ -22,7 +23,23 @@ struct NuScenesSequenceOptions {
   std::vector<std::string> channels;
   /// Throws std::invalid_argument naming the setting out of range.
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void NuScenesSequenceOptions::fields(Visit&& visit) {
+  using S = NuScenesSequenceOptions;
+  visit(&S::filter, Field("filter", "the detections read"));
+  visit(&S::reference_channel,
+        Field("reference_channel", "the radar channel that clocks the cycles (empty: the forward-facing one)")
+            .cli("reference-channel"));
+  visit(&S::channels, Field("channels",
+                            "the radar channels used (empty: every radar in sensor.json); one channel "
+                            "runs a one-radar car")
+                          .cli("channels"));
+}
 
 class NuScenesRadarSequence {
  public:

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/polar_scan.h"
 
@@ -21,7 +22,22 @@ struct OxfordPolarOptions {
   int encoder_size = 5600;
   /// Range bins a row must have (the CTS350-X writes 3768); 0 accepts any width above 11.
   int expected_bins = 3768;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void OxfordPolarOptions::fields(Visit&& visit) {
+  using S = OxfordPolarOptions;
+  visit(&S::convention, Field("convention", "bins and azimuths"));
+  visit(&S::encoder_size, Field("encoder_size", "encoder counts a turn").atLeast(1));
+  visit(&S::expected_bins, Field("expected_bins",
+                                 "range bins a PNG row must have after its 11 metadata bytes (the CTS350-X's); "
+                                 "0 accepts any width")
+                               .atLeast(0)
+                               .cli("bins"));
+}
 
 /// Reads an Oxford polar PNG (8-bit grayscale). The scan stamp is the file name's number when the
 /// name is one (as in the dataset), else the first azimuth's. Throws IoError naming the file when

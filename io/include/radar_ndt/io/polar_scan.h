@@ -12,6 +12,8 @@
 #include <functional>
 #include <vector>
 
+#include "radar_ndt/fields.h"
+
 namespace radar_ndt {
 
 /// One sweep of a scanning radar in polar form.
@@ -59,7 +61,19 @@ struct PolarConvention {
 
   double toVehicleAngle(double sensor_azimuth) const;
   double toSensorAzimuth(double vehicle_angle) const;  ///< in [0, 2π)
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void PolarConvention::fields(Visit&& visit) {
+  using S = PolarConvention;
+  visit(&S::range_resolution, Field("range_resolution", "range bin size").unit("m").positive().cli("bin-size"));
+  visit(&S::range_offset_bins, Field("range_offset_bins", "bin b covers the range (b + offset) · resolution"));
+  visit(&S::azimuth_zero, Field("azimuth_zero", "vehicle-frame angle of azimuth 0, CCW from x forward").unit("rad"));
+  visit(&S::clockwise, Field("clockwise", "the sensor's azimuth grows clockwise seen from above"));
+}
 
 /// Moves each row a of `scan` by `shift_m(a)` metres along range (what lay at r then lies at
 /// r + shift), resampled linearly between bins, zeros shifted in: the range shift of an FMCW chirp

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/polar_scan.h"
 
@@ -18,7 +19,19 @@ struct RadiatePolarOptions {
   PolarConvention convention{0.173611, 0.0, 0.0, true};
   int expected_azimuths = 400;  ///< 0 accepts any
   double sweep_period = 0.25;   ///< s; per-azimuth timestamps are spread over it from the frame time
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void RadiatePolarOptions::fields(Visit&& visit) {
+  using S = RadiatePolarOptions;
+  visit(&S::convention, Field("convention", "bins and azimuths"));
+  visit(&S::expected_azimuths, Field("expected_azimuths", "azimuths a scan must have; 0 accepts any").atLeast(0));
+  visit(&S::sweep_period,
+        Field("sweep_period", "the azimuths' times spread over this from the frame time").unit("s").positive());
+}
 
 /// Reads a RADIATE polar PNG. `frame_time_us` is the frame's time (Navtech_Polar.txt); azimuth
 /// timestamps are spread over `sweep_period` from it.

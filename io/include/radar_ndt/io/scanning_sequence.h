@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/polar_scan.h"
@@ -24,9 +25,13 @@
 namespace radar_ndt {
 
 enum class ScanFormat { Oxford, Radiate, Boreas };
-/// "oxford", "radiate" or "boreas"; throws std::invalid_argument otherwise.
-ScanFormat parseScanFormat(const std::string& name);
-const char* toString(ScanFormat format);
+template <>
+struct EnumNames<ScanFormat> {
+  static constexpr const char* what = "scanning format";
+  static constexpr EnumName<ScanFormat> names[] = {{ScanFormat::Oxford, "oxford", "Oxford Radar RobotCar"},
+                                                   {ScanFormat::Radiate, "radiate", "RADIATE"},
+                                                   {ScanFormat::Boreas, "boreas", "Boreas"}};
+};
 
 struct ScanningSequenceOptions {
   OxfordPolarOptions oxford;
@@ -34,7 +39,18 @@ struct ScanningSequenceOptions {
   BoreasPolarOptions boreas;
   /// Throws std::invalid_argument naming the setting out of range (bin sizes, expected widths).
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void ScanningSequenceOptions::fields(Visit&& visit) {
+  using S = ScanningSequenceOptions;
+  visit(&S::oxford, Field("oxford", "Oxford Radar RobotCar scans").scope("oxford"));
+  visit(&S::radiate, Field("radiate", "RADIATE scans").scope("radiate"));
+  visit(&S::boreas, Field("boreas", "Boreas scans").scope("boreas"));
+}
 
 /// The scans of one sequence directory, in time order.
 class ScanningSequence {

@@ -9,6 +9,8 @@
 
 #include <Eigen/Geometry>
 
+#include "radar_ndt/fields.h"
+
 namespace radar_ndt {
 
 /// A sequence of poses of the vehicle frame in a fixed world frame, with timestamps (s) when the
@@ -37,8 +39,17 @@ Eigen::Isometry3d interpolate(const Eigen::Isometry3d& a, const Eigen::Isometry3
 /// `<timestamp µs>` and the row-major 3x4 of T_rk_r0, the transform from the first radar frame to
 /// scan k's, in the radar's axes (x forward, y right, z down); read back as vehicle poses.
 enum class TrajectoryFormat { Auto, Kitti, Tum, Boreas };
+template <>
+struct EnumNames<TrajectoryFormat> {
+  static constexpr const char* what = "trajectory format";
+  static constexpr EnumName<TrajectoryFormat> names[] = {
+      {TrajectoryFormat::Auto, "auto", "by the file"},
+      {TrajectoryFormat::Kitti, "kitti", "KITTI"},
+      {TrajectoryFormat::Tum, "tum", "TUM"},
+      {TrajectoryFormat::Boreas, "boreas", "the Boreas odometry leaderboard's"}};
+};
 
-/// "kitti", "tum", "boreas" or "auto" (case-insensitive); throws std::invalid_argument otherwise.
+/// A TrajectoryFormat's name in any case ("KITTI", "tum"); throws std::invalid_argument otherwise.
 TrajectoryFormat parseTrajectoryFormat(const std::string& name);
 
 /// Reads a KITTI file. Each rotation block must be a rotation (orthonormal, det +1, to 1e-3);

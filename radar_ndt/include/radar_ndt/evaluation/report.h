@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "radar_ndt/evaluation/metrics.h"
+#include "radar_ndt/fields.h"
 
 namespace radar_ndt {
 
@@ -26,7 +27,19 @@ struct EvaluationOptions {
   std::size_t kitti_step = 10;
   double one_meter_length = 1.0;
   std::size_t frame_step = 1;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void EvaluationOptions::fields(Visit&& visit) {
+  using S = EvaluationOptions;
+  visit(&S::kitti_lengths, Field("kitti_lengths", "the KITTI metric's segment lengths").unit("m").positive());
+  visit(&S::kitti_step, Field("kitti_step", "the KITTI metric's first frames every this many poses").atLeast(1));
+  visit(&S::one_meter_length, Field("one_meter_length", "the 1 m metric's segment length").unit("m").positive());
+  visit(&S::frame_step, Field("frame_step", "the frame metric's step in poses").atLeast(1));
+}
 
 struct EvaluationReport {
   std::size_t associated_poses = 0;

@@ -9,6 +9,7 @@
 
 #include <pcl/point_cloud.h>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/frontend/doppler_outlier_removal.h"
 #include "radar_ndt/frontend/ego_velocity.h"
 #include "radar_ndt/frontend/point_covariance.h"
@@ -38,7 +39,25 @@ struct AutomotiveFrontEndOptions {
   bool compensate_time = true;
   /// Throws std::invalid_argument naming the setting out of range.
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void AutomotiveFrontEndOptions::fields(Visit&& visit) {
+  using S = AutomotiveFrontEndOptions;
+  visit(&S::covariance_model, Field("covariance_model", "each detection's covariance").cli("covariance"));
+  visit(&S::polar, Field("polar", "the data sheet's accuracies (covariance model polar)"));
+  visit(&S::ego_velocity, Field("ego_velocity", "the Doppler ego-velocity"));
+  visit(&S::remove_moving, Field("remove_moving", "remove detections that disagree with the ego-velocity")
+                               .offSwitch("keep-moving",
+                                          "do not remove detections that disagree with "
+                                          "the Doppler ego-velocity (ablation)"));
+  visit(&S::compensate_time,
+        Field("compensate_time", "move each radar's sweep to the reference time")
+            .offSwitch("no-time-compensation", "do not move each radar's sweep to the reference time (ablation)"));
+}
 
 class AutomotiveFrontEnd {
  public:

@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/io/polar_scan.h"
 
 namespace radar_ndt {
@@ -30,7 +31,25 @@ struct ChirpCorrectionOptions {
   double min_peak = 0.3;    ///< normalised correlation a pair's peak must reach to count
   /// Throws std::invalid_argument naming the setting out of range.
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void ChirpCorrectionOptions::fields(Visit&& visit) {
+  using S = ChirpCorrectionOptions;
+  visit(&S::enabled, Field("enabled", "undo the up/down-chirp range shifts of scans with chirp types")
+                         .offSwitch("no-chirp-correction",
+                                    "leave the up/down-chirp range shifts of scans "
+                                    "with chirp types (boreas, 2024) as they are"));
+  visit(&S::max_shift, Field("max_shift", "the largest shift searched").unit("m").positive());
+  visit(&S::min_range, Field("min_range", "the bins compared start here").unit("m").atLeast(0));
+  visit(&S::max_range, Field("max_range", "... and end here").unit("m").positive());
+  visit(&S::top_share, Field("top_share", "the strongest share of a row's bins correlated").positive().atMost(1));
+  visit(&S::min_pairs, Field("min_pairs", "neighbouring pairs with a clear peak a fit needs").atLeast(2));
+  visit(&S::min_peak, Field("min_peak", "normalised correlation a pair's peak must reach").atLeast(0).below(1));
+}
 
 struct ChirpShiftEstimate {
   bool valid = false;

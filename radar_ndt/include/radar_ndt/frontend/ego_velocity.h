@@ -24,6 +24,7 @@
 #include <Eigen/Core>
 #include <pcl/point_cloud.h>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/io/radar_cycle.h"
 #include "radar_ndt/point_types.h"
 
@@ -36,9 +37,14 @@ enum class EgoVelocityModel {
   Nonholonomic,  ///< vy = 0 at the vehicle frame's origin, (vx, ω) fitted (Kellner 2013)
 };
 
-/// "auto", "full" or "nonholonomic"; throws std::invalid_argument otherwise.
-EgoVelocityModel parseEgoVelocityModel(const std::string& name);
-const char* toString(EgoVelocityModel model);
+template <>
+struct EnumNames<EgoVelocityModel> {
+  static constexpr const char* what = "ego-velocity model";
+  static constexpr EnumName<EgoVelocityModel> names[] = {
+      {EgoVelocityModel::Auto, "auto", "full when radars sit at two places or more, else nonholonomic"},
+      {EgoVelocityModel::Full, "full", "vx, vy and the yaw rate"},
+      {EgoVelocityModel::Nonholonomic, "nonholonomic", "vy = 0: one radar suffices"}};
+};
 
 /// Ego-velocity (vx, vy, yaw rate) in the vehicle frame, m/s and rad/s.
 struct EgoVelocity {
@@ -72,7 +78,32 @@ struct EgoVelocityOptions {
   double lateral_sigma = 0.05;
   /// Throws std::invalid_argument naming the setting out of range.
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void EgoVelocityOptions::fields(Visit&& visit) {
+  using S = EgoVelocityOptions;
+  visit(&S::inlier_threshold,
+        Field("inlier_threshold", "ego-velocity RANSAC inlier and moving-detection threshold on |Doppler - predicted|")
+            .unit("m/s")
+            .positive()
+            .cli("doppler-threshold"));
+  visit(&S::max_iterations, Field("max_iterations", "RANSAC iterations").atLeast(1));
+  visit(&S::min_inliers, Field("min_inliers", "inliers a valid estimate needs").atLeast(2));
+  visit(&S::min_inlier_ratio,
+        Field("min_inlier_ratio", "below this inlier share the cycle's estimate is invalid").atLeast(0).atMost(1));
+  visit(&S::seed, Field("seed", "RANSAC's seed: the same input gives the same answer"));
+  visit(&S::model, Field("model", "the kinematic model of the fit").cli("ego-model"));
+  visit(&S::lateral_sigma, Field("lateral_sigma",
+                                 "σ of the prior vy = 0 at the vehicle origin (nuScenes: the rear axle); 0: none, the "
+                                 "plain 3-DoF fit")
+                               .unit("m/s")
+                               .atLeast(0)
+                               .cli("lateral-sigma"));
+}
 
 class EgoVelocityEstimator {
  public:

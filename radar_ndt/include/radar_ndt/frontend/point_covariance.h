@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <pcl/point_cloud.h>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/frontend/ego_velocity.h"
 #include "radar_ndt/point_types.h"
 
@@ -17,9 +18,13 @@ enum class PointCovarianceModel {
   ReportedRms,  ///< the sensor's own x_rms/y_rms (sensor frame), where the file has them
 };
 
-/// "polar" or "rms"; throws std::invalid_argument otherwise.
-PointCovarianceModel parsePointCovarianceModel(const std::string& name);
-const char* toString(PointCovarianceModel model);
+template <>
+struct EnumNames<PointCovarianceModel> {
+  static constexpr const char* what = "point covariance model";
+  static constexpr EnumName<PointCovarianceModel> names[] = {
+      {PointCovarianceModel::Polar, "polar", "ARS408 range/azimuth spec"},
+      {PointCovarianceModel::ReportedRms, "rms", "the reported x_rms/y_rms"}};
+};
 
 /// Continental ARS408-21 data sheet accuracies, read as 1σ: range ±0.10 m (near range, up to
 /// 70 m) and ±0.40 m (far range); azimuth ±0.1° straight ahead growing to ±1° at ±60° and beyond.
@@ -30,7 +35,22 @@ struct PolarAccuracy {
   double azimuth_sigma_center_deg = 0.1;
   double azimuth_sigma_edge_deg = 1.0;
   double edge_azimuth_deg = 60.0;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void PolarAccuracy::fields(Visit&& visit) {
+  using S = PolarAccuracy;
+  visit(&S::range_sigma_near, Field("range_sigma_near", "range 1σ in the near range").unit("m").positive());
+  visit(&S::range_sigma_far, Field("range_sigma_far", "range 1σ beyond it").unit("m").positive());
+  visit(&S::near_range, Field("near_range", "where the near range ends").unit("m").atLeast(0));
+  visit(&S::azimuth_sigma_center_deg,
+        Field("azimuth_sigma_center_deg", "azimuth 1σ straight ahead").unit("deg").positive());
+  visit(&S::azimuth_sigma_edge_deg, Field("azimuth_sigma_edge_deg", "azimuth 1σ at the edge").unit("deg").positive());
+  visit(&S::edge_azimuth_deg, Field("edge_azimuth_deg", "where the edge begins").unit("deg").atLeast(0));
+}
 
 /// Covariance of a detection at (x, y) in the sensor frame under the polar model (sensor frame).
 Eigen::Matrix2d polarCovariance(double x, double y, const PolarAccuracy& accuracy);

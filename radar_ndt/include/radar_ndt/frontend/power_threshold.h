@@ -15,6 +15,7 @@
 
 #include <pcl/point_cloud.h>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/point_types.h"
 
@@ -31,7 +32,24 @@ struct PowerThresholdOptions {
   double beam_width_deg = 2.0;  ///< −3 dB azimuth beam width (CTS350-X: 2°); σθ = width / 2.355
   /// Throws std::invalid_argument naming the setting out of range.
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void PowerThresholdOptions::fields(Visit&& visit) {
+  using S = PowerThresholdOptions;
+  visit(&S::cartesian, Field("cartesian", "the paper's Cartesian image (else one point per polar cell)")
+                           .spelled("points", "polar", "cartesian"));
+  visit(&S::cartesian_resolution,
+        Field("cartesian_resolution", "cartesian: metres per pixel").unit("m").positive().cli("pixel"));
+  visit(&S::max_range, Field("max_range", "the front-end's range limit").unit("m").positive().cli("max-range"));
+  visit(&S::min_range, Field("min_range", "returns nearer than this dropped (the radar's mount)").unit("m").atLeast(0));
+  visit(&S::threshold,
+        Field("threshold", "power threshold of the front-end (power is 0..1)").atLeast(0).below(1).cli("threshold"));
+  visit(&S::beam_width_deg, Field("beam_width_deg", "-3 dB azimuth beam width").unit("deg").positive());
+}
 
 /// A Cartesian power image centred on the sensor: row 0 is the far front (+x), column 0 the far
 /// left (+y). Pixels outside [min_range, max_range] hold −1.

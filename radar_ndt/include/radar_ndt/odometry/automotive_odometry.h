@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/frontend/automotive_front_end.h"
 #include "radar_ndt/frontend/probabilistic_submap.h"
 #include "radar_ndt/io/trajectory_io.h"
@@ -37,9 +38,15 @@ enum class AutomotiveMatchMode {
   SubmapToSubmap,  ///< the paper's: submap of cycles k−N+1..k to submap k−N..k−1
   CycleToMap,      ///< the newest cycle to the local map of the M cycles before it
 };
-/// "submap-to-submap" (also "paper"), "cycle-to-map"; throws std::invalid_argument otherwise.
-AutomotiveMatchMode parseAutomotiveMatchMode(const std::string& name);
-const char* toString(AutomotiveMatchMode mode);
+template <>
+struct EnumNames<AutomotiveMatchMode> {
+  static constexpr const char* what = "automotive match mode";
+  static constexpr EnumName<AutomotiveMatchMode> names[] = {
+      {AutomotiveMatchMode::SubmapToSubmap, "submap-to-submap", "submap to submap, not fused: the paper's scheme"},
+      {AutomotiveMatchMode::SubmapToSubmap, "paper", ""},
+      {AutomotiveMatchMode::CycleToMap, "cycle-to-map",
+       "the newest cycle to a local map of earlier cycles, fused with the Doppler motion"}};
+};
 
 struct AutomotiveOdometryOptions {
   AutomotiveMatchMode mode = AutomotiveMatchMode::CycleToMap;
@@ -50,7 +57,7 @@ struct AutomotiveOdometryOptions {
   /// as in the paper.
   bool fuse_doppler = true;
   MotionFusionOptions fusion;
-  double grid = 3.0;       ///< g (m), the paper's nuScenes value
+  // The retries; the grid g they start from is the matcher's (MatcherOptions, MatcherAdapter::nominal).
   double grid_step = 2.0;  ///< added to g at each retry
   int max_retries = 4;
   AutomotiveMotionGateOptions gate;
@@ -69,13 +76,39 @@ struct AutomotiveOdometryOptions {
   void validate() const;
   /// These options in the paper's configuration: SubmapToSubmap with N = `n`, no fusion.
   AutomotiveOdometryOptions paper(std::size_t n) const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void AutomotiveOdometryOptions::fields(Visit&& visit) {
+  using S = AutomotiveOdometryOptions;
+  visit(&S::mode, Field("mode", "what is matched to what").cli("mode"));
+  visit(&S::submap_size, Field("submap_size", "paper mode: N, radar cycles per submap").atLeast(1).cli("submap"));
+  visit(&S::map_cycles,
+        Field("map_cycles", "cycle-to-map: M, earlier cycles in the local map").atLeast(1).cli("map-cycles"));
+  visit(&S::fuse_doppler, Field("fuse_doppler", "fuse the accepted match with the Doppler motion")
+                              .offSwitch("no-fusion",
+                                         "the accepted match is the motion, not fused with "
+                                         "the Doppler motion (ablation; paper mode never fuses)"));
+  visit(&S::fusion, Field("fusion", "the fusion's covariances"));
+  visit(&S::grid_step, Field("grid_step", "added to g at each retry").unit("m").atLeast(0));
+  visit(&S::max_retries, Field("max_retries", "retries with a larger grid").atLeast(0));
+  visit(&S::gate, Field("gate", "the motion gate"));
+  visit(&S::stale_velocity_sigma,
+        Field("stale_velocity_sigma", "added to a reused ego-velocity's 1σ").unit("m/s").atLeast(0));
+  visit(&S::min_points, Field("min_points", "fewer points in either submap: dead reckoning").atLeast(0));
+  visit(&S::doppler_weights, Field("doppler_weights", "Rapp's Doppler-agreement weights (rapp-ndt)"));
+  visit(&S::doppler_weight_sigma, Field("doppler_weight_sigma", "σ of Rapp's weights").unit("m/s").positive());
+  visit(&S::doppler_weight_rounds, Field("doppler_weight_rounds", "re-weightings of the newest cycle").atLeast(0));
+}
 
 class AutomotiveOdometry {
  public:
-  /// An empty `matcher` (Method::Doppler): dead reckoning with the Doppler ego-velocity (Kellner's
-  /// baseline). Validates `options`. The odometry owns the matcher's grid (options.grid, enlarged
-  /// on retries): it is set here, whatever the matcher was built with.
+  /// An empty `matcher` (the method doppler): dead reckoning with the Doppler ego-velocity (Kellner's
+  /// baseline). Each cycle's first attempt runs at the matcher's nominal grid, retries enlarge it.
+  /// Validates `options`.
   AutomotiveOdometry(const AutomotiveOdometryOptions& options, MatcherAdapter matcher);
 
   /// Adds a front-end cycle. Its cloud is planar (z = 0, as AutomotiveFrontEnd gives it): ours
@@ -129,7 +162,7 @@ class AutomotiveOdometry {
   ProbabilisticSubmap submap_;  ///< the paper's submap; also integrates the Doppler motion
   LocalMap map_;                ///< CycleToMap's target
   MotionFusion fusion_;
-  MatchCalibration calibration_ = MatchCalibration::Ours;  ///< how the fusion trusts this matcher's matches
+  MatchCalibration calibration_ = MatchCalibration::WeightedNdt;  ///< how the fusion trusts this matcher's matches
   ConstantVelocityModel motion_model_;
   StepLog log_;
   pcl::PointCloud<PointRadar>::Ptr target_;  ///< the last submap (SubmapToSubmap)

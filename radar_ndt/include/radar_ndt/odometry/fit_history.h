@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <deque>
 
+#include "radar_ndt/fields.h"
+
 namespace radar_ndt {
 
 struct FitCheckOptions {
@@ -17,7 +19,18 @@ struct FitCheckOptions {
   double min_relative_fit = 0.6;
   std::size_t history = 15;  ///< judged matches the median is taken over (checked from 5 on)
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void FitCheckOptions::fields(Visit&& visit) {
+  using S = FitCheckOptions;
+  visit(&S::min_relative_fit,
+        Field("min_relative_fit", "refuse a match fitting below this share of recent ones' median; 0: off").atLeast(0));
+  visit(&S::history, Field("history", "judged matches the median is taken over").atLeast(0));
+}
 
 /// The fits of the last judged matches, refused ones too: a scene that stays poorer than the last
 /// (open land after a city centre) lowers the median within history / 2 scans instead of causing

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/se2.h"
 
 namespace radar_ndt {
@@ -14,7 +15,23 @@ struct KeyframeOptions {
   double distance = 8.0;
   double rotation = 0.1;
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void KeyframeOptions::fields(Visit&& visit) {
+  using S = KeyframeOptions;
+  visit(&S::distance, Field("distance",
+                            "match to a keyframe replaced after this distance (or rotation, or a failed "
+                            "match); 0: scan to scan as the paper")
+                          .unit("m")
+                          .atLeast(0)
+                          .orInfinite()
+                          .cli("keyframe-distance"));
+  visit(&S::rotation, Field("rotation", "... or after this rotation").unit("rad").atLeast(0).orInfinite());
+}
 
 /// Which scan the next one is matched against: the keyframe is replaced by a matched scan far
 /// enough from it, or after two failed matches in a row (one failed scan is never made the target:

@@ -2,8 +2,9 @@
 // The scan matcher the odometries drive: any pcl::Registration<PointRadar, PointRadar>, behind a
 // small adapter (MatcherAdapter) that knows the few things the pipelines change or judge at run
 // time: the grid (retries enlarge it), the power shift (the scanning pipeline halves it) and the
-// match's score. makeMatcher() builds ours, PCL's NDT or PCL's ICP with their settings
-// (MatcherOptions); PCL's templates for PointRadar are compiled once, in src/odometry/matcher.cpp.
+// match's score. MatcherOptions hold every matcher setting, each in one place, with one default
+// per radar kind (forScanning, forAutomotive); makeMatcher() builds the method they name from the
+// registry of matchers (odometry/matcher_registry.h).
 
 #include <cmath>
 #include <functional>
@@ -16,24 +17,13 @@
 #include <Eigen/Core>
 #include <pcl/registration/registration.h>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/point_types.h"
 #include "radar_ndt/registration/weighted_ndt_2d.h"
 
 namespace radar_ndt {
 
 using RadarRegistration = pcl::Registration<PointRadar, PointRadar, float>;
-
-enum class Method {
-  PwNdt,    ///< WeightedNDT2D (the paper's weighted probabilistic NDT), one point per cell minimum
-  PclNdt,   ///< pcl::NormalDistributionsTransform
-  PclIcp,   ///< pcl::IterativeClosestPoint
-  Doppler,  ///< no matching: Kellner's ego-velocity integration
-  RappNdt,  ///< grid NDT with Doppler-agreement weights (Rapp et al. 2017, grid-based as in the paper)
-};
-
-/// "pw-ndt", "pcl-ndt", "pcl-icp", "doppler", "rapp-ndt"; throws std::invalid_argument otherwise.
-Method parseMethod(const std::string& name);
-const char* toString(Method method);
 
 namespace detail {
 template <typename R, typename = void>
@@ -53,112 +43,176 @@ struct HasTransformationProbability<R, std::void_t<decltype(std::declval<R&>().g
     : std::true_type {};
 }  // namespace detail
 
+/// What an attempt of the odometry sets on its matcher: the grid (NDT cell size g; ICP's maximum
+/// correspondence distance) and the power shift s of eq. (1)-(2) (matchers with power weights).
+struct MatchSettings {
+  double grid = 0;
+  float power_shift = 0;
+};
+
 /// A registration and what the odometry may change or read on it that pcl::Registration does not
 /// say, decided once, from the static type it is built from (no casts at run time):
-///  - ours (WeightedNDT2D): grid = resolution, power shift, everything else from its result
+///  - WeightedNDT2D: grid = resolution, power shift, everything else from its result
 ///    (WeightedNDT2DResult: score, score per point, pose covariance);
 ///  - a matcher with setResolution (PCL's NDT): grid = resolution, score = its transformation
 ///    likelihood (when it has one);
 ///  - any other (PCL's ICP, a user's): grid = max correspondence distance, score = −fitness score.
 /// Pass the concrete type's pointer: a WeightedNDT2D given as a plain RadarRegistration::Ptr is
 /// driven as "any other". Empty (no registration): the odometry dead-reckons.
+/// The adapter holds the nominal settings the odometry returns to after its retries, and the ones
+/// the matcher holds now: apply() sets only what differs.
 class MatcherAdapter {
  public:
-  using Ours = WeightedNDT2D<PointRadar, PointRadar>;
+  using WeightedNdt = WeightedNDT2D<PointRadar, PointRadar>;
 
   MatcherAdapter() = default;
   MatcherAdapter(std::nullptr_t) {}
+  /// `registration` driven at `nominal`, which is set on it here.
   template <typename R, typename = std::enable_if_t<std::is_base_of_v<RadarRegistration, R>>>
-  MatcherAdapter(std::shared_ptr<R> registration) : registration_(registration) {
+  MatcherAdapter(std::shared_ptr<R> registration, const MatchSettings& nominal) : registration_(registration) {
     if (!registration) return;
     R* r = registration.get();
-    if constexpr (std::is_base_of_v<Ours, R>) ours_ = r;
+    if constexpr (std::is_base_of_v<WeightedNdt, R>) weighted_ndt_ = r;
     grid_is_resolution_ = detail::HasResolution<R>::value;
     if constexpr (detail::HasResolution<R>::value)
       set_grid_ = [r](double g) { r->setResolution(static_cast<float>(g)); };
     else
       set_grid_ = [r](double g) { r->setMaxCorrespondenceDistance(g); };
-    if constexpr (std::is_base_of_v<Ours, R>)
-      ;  // ours reports through its result
+    if constexpr (std::is_base_of_v<WeightedNdt, R>)
+      ;  // WeightedNDT2D reports through its result
     else if constexpr (detail::HasTransformationLikelihood<R>::value)
       score_ = [r] { return r->getTransformationLikelihood(); };
     else if constexpr (detail::HasTransformationProbability<R>::value)
       score_ = [r] { return r->getTransformationProbability(); };
+    setNominal(nominal);
   }
 
   explicit operator bool() const { return static_cast<bool>(registration_); }
   RadarRegistration& registration() const { return *registration_; }
   const RadarRegistration::Ptr& registrationPtr() const { return registration_; }
-  /// Ours, or nullptr for another matcher.
-  Ours* ours() const { return ours_; }
-  /// Whether the grid is an NDT resolution (ours, PCL's NDT) rather than ICP's correspondence distance.
+  /// The WeightedNDT2D, or nullptr for another matcher.
+  WeightedNdt* weightedNdt() const { return weighted_ndt_; }
+  /// Whether the grid is an NDT resolution (WeightedNDT2D, PCL's NDT) rather than ICP's
+  /// correspondence distance.
   bool gridIsResolution() const { return grid_is_resolution_; }
+  /// Whether the matcher weighs points by their power (the power shift means something to it).
+  bool hasPowerWeights() const { return weighted_ndt_ != nullptr; }
 
-  /// The grid size: NDT cell size, or ICP's max correspondence distance (m).
-  void setGrid(double grid) const { set_grid_(grid); }
-  /// Sets the power shift s of eq. (1)-(2), in the cells and, when `shift_source` (the paper), in
-  /// the matching weights; false (nothing changed) for a matcher without power weights.
-  bool setPowerShift(float shift, bool shift_source = true) const {
-    if (!ours_) return false;
-    ours_->setPowerShift(shift);
-    ours_->setShiftSourceWeights(shift_source);
-    return true;
+  /// The settings the odometry returns to; set on the matcher at once.
+  void setNominal(const MatchSettings& nominal) {
+    nominal_ = nominal;
+    set_grid_(nominal.grid);
+    if (weighted_ndt_) weighted_ndt_->setPowerShift(nominal.power_shift);
+    current_ = nominal;
+  }
+  const MatchSettings& nominal() const { return nominal_; }
+  /// What the matcher holds now (the power shift: 0 for a matcher without power weights).
+  MatchSettings current() const { return {current_.grid, weighted_ndt_ ? current_.power_shift : 0.f}; }
+  /// Sets `s` on the matcher, each setting only where it differs from what the matcher holds.
+  void apply(const MatchSettings& s) {
+    if (s.grid != current_.grid) set_grid_(current_.grid = s.grid);
+    if (weighted_ndt_ && s.power_shift != current_.power_shift)
+      weighted_ndt_->setPowerShift(current_.power_shift = s.power_shift);
   }
   /// How well the last align() fits, larger is better, comparable between aligns of the same
   /// source and target.
   double score() const {
-    if (ours_) return ours_->getNdtScore();
+    if (weighted_ndt_) return weighted_ndt_->getNdtScore();
     return score_ ? score_() : -registration_->getFitnessScore();
   }
-  /// Ours only: the last align()'s NDT score per source point (WeightedNDT2DResult::scorePerPoint);
-  /// NaN for other matchers.
+  /// WeightedNDT2D only: the last align()'s NDT score per source point
+  /// (WeightedNDT2DResult::scorePerPoint); NaN for other matchers.
   double fitPerPoint() const {
-    return ours_ ? ours_->getResult().scorePerPoint() : std::numeric_limits<double>::quiet_NaN();
+    return weighted_ndt_ ? weighted_ndt_->getResult().scorePerPoint() : std::numeric_limits<double>::quiet_NaN();
   }
   /// The last align()'s pose covariance as the matcher reports it; NaN for a matcher without one.
   Eigen::Matrix3d poseCovariance() const {
-    return ours_ ? ours_->getResult().pose_covariance
-                 : Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    return weighted_ndt_ ? weighted_ndt_->getResult().pose_covariance
+                         : Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   }
 
  private:
   RadarRegistration::Ptr registration_;
-  Ours* ours_ = nullptr;
+  WeightedNdt* weighted_ndt_ = nullptr;
   bool grid_is_resolution_ = false;
   std::function<void(double)> set_grid_;
   std::function<double()> score_;
+  MatchSettings nominal_, current_;
 };
 
-/// The settings each method is built with (the grid comes from the odometry's options).
+/// Every setting of the matchers, each in one place: the method (a name in the registry of
+/// matchers), the grid and power shift every attempt starts from, and each method's own settings.
+/// One default per radar kind: forScanning() and forAutomotive().
 struct MatcherOptions {
-  Method method = Method::PwNdt;
-  /// Ours (pw-ndt, rapp-ndt): the matcher's settings, except the grid and the power shift, which
-  /// the odometry sets from its own options. Probabilistic cells (Hong & Lee 2017) include their
-  /// points' own covariances, so one detection defines a usable Gaussian: sparse automotive
-  /// submaps would lose most cells to WeightedNDT2D's default minimum of 3.
-  WeightedNDT2DSettings ours = defaultOurs();
-  int ours_max_iterations = 30;
+  std::string method = "pw-ndt";
+  double grid = 3.0;        ///< NDT cell size g (m); ICP: maximum correspondence distance
+  float power_shift = 0.f;  ///< s of eq. (1)-(2), for matchers with power weights
+  /// false: s shifts the cells' weights (eq. 1) only, the matching weights are p·exp(−½(σx + σy))
+  /// (an ablation; the paper shifts both).
+  bool shift_source_weights = true;
+  /// WeightedNDT2D's (pw-ndt, rapp-ndt) other settings. Its grid, power shift and source shift are
+  /// the three above: makeMatcher sets them, and validate() refuses them set here instead.
+  /// Probabilistic cells (Hong & Lee 2017) include their points' own covariances, so one detection
+  /// defines a usable Gaussian: sparse automotive submaps would lose most cells to WeightedNDT2D's
+  /// default minimum of 3.
+  WeightedNDT2DSettings weighted_ndt = defaultWeightedNdt();
+  int weighted_ndt_max_iterations = 30;
   /// PCL's NDT as compared wherever it is (applyPclNdtSettings): Newton step 0.5, ε 1e-4, at
   /// most 50 iterations; PCL's ICP: at most 50 iterations, ε 1e-8, Euclidean fitness ε 1e-8.
   int icp_max_iterations = 50;
   double icp_transformation_epsilon = 1e-8;
   double icp_fitness_epsilon = 1e-8;
 
-  static WeightedNDT2DSettings defaultOurs() {
+  static WeightedNDT2DSettings defaultWeightedNdt() {
     WeightedNDT2DSettings s;
     s.min_points_per_cell = 1;
     return s;
   }
-  /// Throws std::invalid_argument naming the setting out of range.
+  /// The scanning radars' defaults (the paper's Oxford values): g = 3.75 m, s = 0.333, and Biber's
+  /// four overlapping grids (the 2x2-neighbour lookup leaves a grid-dependent bias on dense scans).
+  static MatcherOptions forScanning();
+  /// The automotive radars' defaults (the paper's nuScenes values): g = 3 m, no power shift.
+  static MatcherOptions forAutomotive();
+  /// The grid and power shift every attempt starts from.
+  MatchSettings nominal() const { return {grid, power_shift}; }
+  /// Throws std::invalid_argument naming the setting out of range, or a method the registry lacks.
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
 
-/// A new matcher for `options.method` at grid size `grid` (NDT cell size; ICP: max correspondence
-/// distance), or an empty adapter for Method::Doppler. The odometries own the grid: they set their
-/// options' grid on the matcher they are given, whatever it was built with.
-MatcherAdapter makeMatcher(const MatcherOptions& options, double grid = 3.0);
-/// makeMatcher with the default settings of `method`.
-MatcherAdapter makeMatcher(Method method, double grid = 3.0);
+/// The registered methods' names and what each is, "pw-ndt (…) | pcl-ndt (…) | …"
+/// (matcher_registry.h; for the field table's help).
+std::string matcherChoices();
+
+template <typename Visit>
+void MatcherOptions::fields(Visit&& visit) {
+  using S = MatcherOptions;
+  visit(&S::method, Field("method", "the matcher, by its registered name").cli("method").choices(&matcherChoices));
+  visit(&S::grid,
+        Field("grid", "NDT grid size g (pcl-icp: max correspondence distance)").unit("m").positive().cli("grid"));
+  visit(&S::power_shift, Field("power_shift", "pw-ndt: power shift s of the weights max(p - s, 0); 0 turns it off")
+                             .atLeast(0)
+                             .below(1)
+                             .cli("power-shift"));
+  visit(&S::shift_source_weights,
+        Field("shift_source_weights", "pw-ndt: the matching weights use the shift too (the paper)")
+            .offSwitch("no-source-shift",
+                       "pw-ndt: shift the cells' weights (eq. 1) only; the matching weights "
+                       "are p·exp(-(σx+σy)/2) (ablation; the paper shifts both)"));
+  visit(&S::weighted_ndt, Field("weighted_ndt", "pw-ndt's and rapp-ndt's other settings"));
+  visit(&S::weighted_ndt_max_iterations,
+        Field("weighted_ndt_max_iterations", "pw-ndt's and rapp-ndt's iterations per grid stage").atLeast(1));
+  visit(&S::icp_max_iterations, Field("icp_max_iterations", "pcl-icp's iterations").atLeast(1));
+  visit(&S::icp_transformation_epsilon,
+        Field("icp_transformation_epsilon", "pcl-icp's transformation epsilon").atLeast(0));
+  visit(&S::icp_fitness_epsilon, Field("icp_fitness_epsilon", "pcl-icp's Euclidean fitness epsilon").atLeast(0));
+}
+
+/// A new matcher for `options.method`, from the registry of matchers, at options.nominal(); an
+/// empty adapter for a method that matches nothing (doppler).
+MatcherAdapter makeMatcher(const MatcherOptions& options);
 
 /// The settings pcl::NormalDistributionsTransform runs with wherever it is compared with ours
 /// (any point type): resolution = grid, step 0.5, ε 1e-4, at most 50 iterations.

@@ -7,6 +7,7 @@
 
 #include <pcl/point_cloud.h>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/point_types.h"
 #include "radar_ndt/se2.h"
 
@@ -22,10 +23,13 @@ enum class CompensationMode {
   /// is compensated as in Rounds, rounds re-compensating it with the velocity the match found.
   Joint,
 };
-
-/// "rounds", "joint"; throws std::invalid_argument otherwise.
-CompensationMode parseCompensationMode(const std::string& name);
-const char* toString(CompensationMode mode);
+template <>
+struct EnumNames<CompensationMode> {
+  static constexpr const char* what = "compensation mode";
+  static constexpr EnumName<CompensationMode> names[] = {
+      {CompensationMode::Rounds, "rounds", "with the velocity of the step before, re-estimated between matches"},
+      {CompensationMode::Joint, "joint", "inside the match, by the motion being estimated (pw-ndt only)"}};
+};
 
 struct MotionCompensationOptions {
   bool enabled = true;
@@ -35,7 +39,30 @@ struct MotionCompensationOptions {
   /// single match's velocity noise is about 0.1 m/s; re-matching within it only chases noise.
   double tolerance = 0.25;
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void MotionCompensationOptions::fields(Visit&& visit) {
+  using S = MotionCompensationOptions;
+  visit(&S::enabled,
+        Field("enabled", "move the points to the scan's reference time")
+            .offSwitch("no-motion-compensation", "do not move points to the scan's reference time (ablation)"));
+  visit(&S::mode, Field("mode", "how the source's sweep is de-skewed").cli("compensation"));
+  visit(&S::max_rounds,
+        Field("max_rounds", "matches per scan at most, the velocity of the compensation re-estimated between them")
+            .atLeast(1)
+            .cli("compensation-rounds"));
+  visit(&S::tolerance, Field("tolerance",
+                             "another round only when the match moved the velocity by more "
+                             "(yaw rate x 10 m)")
+                           .unit("m/s")
+                           .atLeast(0)
+                           .orInfinite()
+                           .cli("compensation-tolerance"));
+}
 
 /// Each point moved from the vehicle pose at its time_offset τ to the pose at τ = 0, assuming the
 /// constant body-frame velocity (vx, vy, ω) in m/s and rad/s; covariances are rotated with it and

@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/se2.h"
 
 namespace radar_ndt {
@@ -51,14 +52,40 @@ struct MotionFusionOptions {
   double yaw_rate_bias_walk = 0.003;
   /// Throws std::invalid_argument naming the first setting out of range.
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void MotionFusionOptions::fields(Visit&& visit) {
+  using S = MotionFusionOptions;
+  visit(&S::doppler_sigma_x, Field("doppler_sigma_x", "the Doppler motion's noise along x").unit("m/s").positive());
+  visit(&S::doppler_sigma_y, Field("doppler_sigma_y", "... along y").unit("m/s").positive());
+  visit(&S::doppler_sigma_yaw, Field("doppler_sigma_yaw", "... in yaw").unit("rad/s").positive());
+  visit(&S::match_covariance_scale,
+        Field("match_covariance_scale", "pw-ndt's reported covariance times this").positive());
+  visit(&S::rapp_covariance_scale,
+        Field("rapp_covariance_scale", "rapp-ndt's reported covariance times this").positive());
+  visit(&S::match_sigma_x,
+        Field("match_sigma_x", "a gridded matcher without a covariance (pcl-ndt): 1σ along x").unit("m").positive());
+  visit(&S::match_sigma_y, Field("match_sigma_y", "... along y").unit("m").positive());
+  visit(&S::match_sigma_yaw, Field("match_sigma_yaw", "... in yaw").unit("rad").positive());
+  visit(&S::icp_sigma_x,
+        Field("icp_sigma_x", "any other matcher without a covariance (pcl-icp): 1σ along x").unit("m").positive());
+  visit(&S::icp_sigma_y, Field("icp_sigma_y", "... along y").unit("m").positive());
+  visit(&S::icp_sigma_yaw, Field("icp_sigma_yaw", "... in yaw").unit("rad").positive());
+  visit(&S::yaw_rate_bias_sigma,
+        Field("yaw_rate_bias_sigma", "the Doppler yaw-rate bias: 1σ at the start").unit("rad/s").atLeast(0));
+  visit(&S::yaw_rate_bias_walk, Field("yaw_rate_bias_walk", "... and its random walk").unit("rad/s/√s").atLeast(0));
+}
 
 /// Which calibration of MotionFusionOptions a match is fused with: the matcher that made it.
 enum class MatchCalibration {
-  Ours,    ///< its reported covariance × match_covariance_scale
-  Rapp,    ///< ours with Doppler weights: × rapp_covariance_scale
-  PclNdt,  ///< no covariance: match_sigma_*
-  PclIcp,  ///< no covariance: icp_sigma_*
+  WeightedNdt,  ///< its reported covariance × match_covariance_scale (pw-ndt)
+  Rapp,         ///< WeightedNDT2D with Doppler weights: × rapp_covariance_scale (rapp-ndt)
+  PclNdt,       ///< no covariance: match_sigma_*
+  PclIcp,       ///< no covariance: icp_sigma_*
 };
 
 /// A motion and its covariance.
@@ -80,7 +107,7 @@ class MotionFusion {
   /// The covariance a match is fused with: `reported` × the calibration's scale when the matcher
   /// reported one (finite, positive definite), else the calibration's fixed σ's.
   Eigen::Matrix3d matchCovariance(const Eigen::Matrix3d* reported,
-                                  MatchCalibration calibration = MatchCalibration::Ours) const;
+                                  MatchCalibration calibration = MatchCalibration::WeightedNdt) const;
   /// The Doppler motion's calibrated covariance: fit covariance + diag(σ²)·dt².
   Eigen::Matrix3d dopplerCovariance(const Eigen::Matrix3d& doppler_fit_covariance, double dt) const;
 

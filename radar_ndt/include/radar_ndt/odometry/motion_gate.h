@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/odometry/motion_model.h"
 #include "radar_ndt/se2.h"
 
@@ -25,7 +26,24 @@ struct AutomotiveMotionGateOptions {
   double match_sigma_yaw = 0.005;
   double chi2_threshold = 16.27;  ///< 3 degrees of freedom, 99.9 %
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void AutomotiveMotionGateOptions::fields(Visit&& visit) {
+  using S = AutomotiveMotionGateOptions;
+  visit(&S::enabled, Field("enabled", "check each converged match against the motion prior and the Doppler motion")
+                         .offSwitch("no-gate",
+                                    "accept every converged match: no motion-prior (nor, nuscenes, "
+                                    "Doppler chi-square) check (ablation)"));
+  visit(&S::max_acceleration,
+        Field("max_acceleration", "the motion prior's acceleration").unit("m/s²").atLeast(0).orInfinite());
+  visit(&S::match_sigma_xy, Field("match_sigma_xy", "1σ of a match's translation").unit("m").atLeast(0));
+  visit(&S::match_sigma_yaw, Field("match_sigma_yaw", "1σ of a match's rotation").unit("rad").atLeast(0));
+  visit(&S::chi2_threshold, Field("chi2_threshold", "the Doppler chi-square bound (3 DoF)").positive());
+}
 
 class AutomotiveMotionGate {
  public:
@@ -53,7 +71,26 @@ struct ScanningMotionGateOptions {
   double match_sigma_xy = 0.05;
   double match_sigma_yaw = 0.005;
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void ScanningMotionGateOptions::fields(Visit&& visit) {
+  using S = ScanningMotionGateOptions;
+  visit(&S::enabled, Field("enabled", "check each converged match against the motion prior")
+                         .offSwitch("no-gate",
+                                    "accept every converged match: no motion-prior (nor, nuscenes, "
+                                    "Doppler chi-square) check (ablation)"));
+  visit(&S::max_acceleration,
+        Field("max_acceleration", "the motion prior's acceleration").unit("m/s²").atLeast(0).orInfinite());
+  visit(
+      &S::max_yaw_acceleration,
+      Field("max_yaw_acceleration", "the yaw rate's change allowed per second").unit("rad/s²").atLeast(0).orInfinite());
+  visit(&S::match_sigma_xy, Field("match_sigma_xy", "1σ of a match's translation").unit("m").atLeast(0));
+  visit(&S::match_sigma_yaw, Field("match_sigma_yaw", "1σ of a match's rotation").unit("rad").atLeast(0));
+}
 
 class ScanningMotionGate {
  public:

@@ -30,9 +30,10 @@ const char* toString(StepStatus s);
 
 struct OdometryStep {
   std::int64_t timestamp_us = 0;
-  Pose2 pose = Pose2::Zero();            ///< vehicle at this cycle in the first cycle's frame
-  Pose2 motion = Pose2::Zero();          ///< this cycle in the previous one
-  Pose2 doppler_motion = Pose2::Zero();  ///< the initial guess: ego-velocity integral (scanning: constant velocity)
+  Pose2 pose = Pose2::Zero();    ///< vehicle at this cycle in the first cycle's frame
+  Pose2 motion = Pose2::Zero();  ///< this cycle in the previous one
+  Pose2 prior_motion =
+      Pose2::Zero();  ///< the initial guess: the Doppler ego-velocity integral (scanning: constant velocity)
   StepStatus status = StepStatus::First;
   int attempts = 0;
   /// DeadReckoned although there is a matcher: the scan (or cycle) or its target had fewer points
@@ -49,7 +50,7 @@ struct OdometryStep {
   Pose2 match_motion = Pose2::Zero();
   /// Covariances as their sources report them, before calibration: the ego-velocity fit's motion
   /// covariance, and the matcher's pose covariance (NaN for a matcher without one, or no match).
-  Eigen::Matrix3d doppler_covariance = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d prior_covariance = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d match_covariance = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   double yaw_rate_bias = 0;  ///< the fusion's Doppler yaw-rate bias estimate after this cycle (rad/s)
   // Scanning only:

@@ -13,6 +13,7 @@
 
 #include <pcl/point_cloud.h>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/odometry/fit_history.h"
 #include "radar_ndt/odometry/keyframe_policy.h"
@@ -29,13 +30,10 @@ namespace radar_ndt {
 
 /// The scanning pipeline's settings, the paper's Oxford values by default.
 struct ScanningOdometryOptions {
-  double grid = 3.75;          ///< g (m)
-  double grid_step = 2.5;      ///< added to g after each failed attempt
-  double max_grid = 12.5;      ///< once an attempt above this grid fails, s is halved
-  float power_shift = 0.333f;  ///< s of eq. (1)-(2) (ours only; PCL's matchers ignore power)
-  /// false: s shifts the cells' weights (eq. 1) only, the matching weights are p·exp(−½(σx + σy))
-  /// (an ablation; the paper shifts both).
-  bool shift_source_weights = true;
+  // The failure ladder; the grid g and power shift s it starts from are the matcher's
+  // (MatcherOptions, MatcherAdapter::nominal).
+  double grid_step = 2.5;         ///< added to g after each failed attempt
+  double max_grid = 12.5;         ///< once an attempt above this grid fails, s is halved
   int max_shift_halvings = 1;     ///< grid ladders tried with a halved s before falling back
   double slow_speed = 1.5 / 3.6;  ///< m/s: below this estimated speed the grid is slow_grid
   double slow_grid = 1.5;         ///< m
@@ -46,12 +44,33 @@ struct ScanningOdometryOptions {
   /// displacements (m) and the best-scoring result is its guess. Empty: from zero motion.
   std::vector<double> start_hypotheses{0.0, 1.5, 3.0, 4.5, 6.0, -1.5};
   KeyframeOptions keyframes;
-  /// Judged at the nominal grid and power shift (ours only). A candidate found by the retry ladder
+  /// Judged at the nominal grid and power shift (WeightedNDT2D only). A candidate found by the retry ladder
   /// is refined at the nominal settings and judged there.
   FitCheckOptions fit;
   /// Throws std::invalid_argument naming the first setting out of range.
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void ScanningOdometryOptions::fields(Visit&& visit) {
+  using S = ScanningOdometryOptions;
+  visit(&S::grid_step, Field("grid_step", "added to g after each failed attempt").unit("m").positive());
+  visit(&S::max_grid, Field("max_grid", "once an attempt above this grid fails, s is halved").unit("m").atLeast(0));
+  visit(&S::max_shift_halvings, Field("max_shift_halvings", "grid ladders tried with a halved s").atLeast(0));
+  visit(&S::slow_speed,
+        Field("slow_speed", "below this estimated speed the grid is slow_grid").unit("m/s").atLeast(0).orInfinite());
+  visit(&S::slow_grid, Field("slow_grid", "the grid below slow_speed").unit("m").positive());
+  visit(&S::gate, Field("gate", "the motion gate"));
+  visit(&S::compensation, Field("compensation", "the points' motion compensation"));
+  visit(&S::min_points, Field("min_points", "fewer points in either scan: constant velocity").atLeast(0));
+  visit(&S::start_hypotheses,
+        Field("start_hypotheses", "the second scan is matched from each of these forward displacements").unit("m"));
+  visit(&S::keyframes, Field("keyframes", "when the keyframe is replaced"));
+  visit(&S::fit, Field("fit", "the fit check against recent matches"));
+}
 
 /// One thresholded scan: points in the vehicle frame, each with its time_offset (s) from
 /// `timestamp_us`, the scan's reference time (the pose is the vehicle's at that time).
@@ -62,7 +81,8 @@ struct ScanFrame {
 
 class ScanningOdometry {
  public:
-  /// An empty `matcher`: constant velocity throughout. Validates `options`.
+  /// An empty `matcher`: constant velocity throughout. Each step starts at the matcher's nominal
+  /// grid and power shift (MatcherAdapter::nominal). Validates `options`.
   ScanningOdometry(const ScanningOdometryOptions& options, MatcherAdapter matcher);
 
   /// Adds a thresholded scan (planar, in the vehicle frame at its reference time). Nothing keeps a
@@ -97,8 +117,6 @@ class ScanningOdometry {
   Pose2 matchWithFailureHandling(const ScanFrame& scan, const OdometryStep& prev, double dt, OdometryStep& step);
   /// The nominal grid (or the slow one) and power shift, then the keyframe as the target.
   void prepareMatcher(double grid);
-  void setGrid(double grid);
-  bool setPowerShift(float shift);
   /// The second scan: the best-scoring match from each start hypothesis (the guess otherwise).
   Pose2 bestStartHypothesis(const ScanFrame& scan, const Pose2& guess);
   /// The grid ladder, then with s halved; a candidate off the nominal settings is refined there,
@@ -123,10 +141,6 @@ class ScanningOdometry {
   FitHistory fits_;
   ConstantVelocityModel motion_model_;
   StepLog log_;
-  // The matcher's current grid and shift (so each is set once before a new target); shift < 0: not
-  // set (the matcher has no power weights).
-  double matcher_grid_ = 0;
-  float matcher_shift_ = -1;
   pcl::PointCloud<PointRadar>::Ptr compensated_;  ///< scratch: the source of the last attempt
   pcl::PointCloud<PointRadar> aligned_;           ///< scratch: the matcher's output (unused; kept to reuse its memory)
 };

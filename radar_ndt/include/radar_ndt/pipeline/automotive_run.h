@@ -8,18 +8,20 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/frontend/automotive_front_end.h"
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/nuscenes_sequence.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/odometry/automotive_odometry.h"
 #include "radar_ndt/odometry/matcher.h"
+#include "radar_ndt/odometry/matcher_registry.h"
 #include "radar_ndt/pipeline/stage_times.h"
 
 namespace radar_ndt {
 
 struct AutomotiveRunOptions {
-  MatcherOptions matcher;  ///< ours with the 2x2-neighbour cell lookup
+  MatcherOptions matcher = MatcherOptions::forAutomotive();
   NuScenesSequenceOptions sequence;
   AutomotiveFrontEndOptions front_end;
   AutomotiveOdometryOptions odometry;
@@ -29,11 +31,31 @@ struct AutomotiveRunOptions {
   int threads = 0;
   /// Throws std::invalid_argument naming the first setting out of range.
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void AutomotiveRunOptions::fields(Visit&& visit) {
+  using S = AutomotiveRunOptions;
+  visit(&S::matcher, Field("matcher", "the matcher"));
+  visit(&S::sequence, Field("sequence", "how a scene's sweeps are read and planned into cycles"));
+  visit(&S::front_end, Field("front_end", "the automotive front-end"));
+  visit(&S::odometry, Field("odometry", "the automotive odometry"));
+  visit(&S::max_cycles,
+        Field("max_cycles", "stop after this many cycles per scene, or scans (0: all)").cli("max-cycles"));
+  visit(&S::threads, Field("threads",
+                           "threads: the next scans or cycles read and through the front-end on the others "
+                           "while one is matched, several nuScenes scenes side by side (outputs "
+                           "identical for any number); 0: every core, 1: one thread")
+                         .atLeast(0)
+                         .cli("threads"));
+}
 
 struct AutomotiveRunResult {
   std::string scene;
-  Method method = Method::PwNdt;
+  std::string method = "pw-ndt";
   std::size_t submap_size = 0;  ///< N
   std::string reference_channel;
   double period_s = 0;
@@ -71,21 +93,22 @@ void runAutomotiveScenes(const NuScenesDataset& dataset, const std::vector<const
                          const std::function<void(std::size_t, const AutomotiveRunResult&)>& done,
                          const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
 
-/// The same with a matcher of the caller's (any pcl::Registration<PointRadar, PointRadar>, set up
-/// as the caller wants but for its grid, set to options.odometry.grid: NDT cell size, or ICP's
-/// maximum correspondence distance); `options.matcher` is not used.
+/// The same with a matcher of the caller's (any pcl::Registration<PointRadar, PointRadar> in a
+/// MatcherAdapter, set up as the caller wants, driven from the adapter's nominal grid and power
+/// shift); `options.matcher` is not used.
 AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
                                           const AutomotiveRunOptions& options, MatcherAdapter matcher,
                                           const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
 
-/// `options` set for `method`: the method, and what it needs beyond it: Rapp's Doppler-weighted NDT
-/// weights points by Doppler agreement (odometry.doppler_weights) and so keeps the moving detections
-/// (front_end.remove_moving off); the others neither. validate() refuses options that set the method
-/// without these, naming the field.
-AutomotiveRunOptions withMethod(AutomotiveRunOptions options, Method method);
+/// `options` set for `method` (a name in the registry of matchers): the method, and what it needs
+/// beyond it: a matcher with Doppler weights (rapp-ndt; MatcherUses) weighs points by Doppler
+/// agreement (odometry.doppler_weights) and so keeps the moving detections (front_end.remove_moving
+/// off); the others neither. validate() refuses options that set the method without these,
+/// naming the field.
+AutomotiveRunOptions withMethod(AutomotiveRunOptions options, const std::string& method);
 
 /// The fusion calibration of the matcher a method builds (AutomotiveOdometry picks the same from
 /// its matcher).
-MatchCalibration matchCalibrationOf(Method method);
+MatchCalibration matchCalibrationOf(const std::string& method);
 
 }  // namespace radar_ndt

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/fields.h"
 #include "radar_ndt/frontend/chirp_correction.h"
 #include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/io/scanning_sequence.h"
@@ -22,9 +23,8 @@
 namespace radar_ndt {
 
 struct ScanningRunOptions {
-  /// The matcher; ours with Biber's four overlapping grids: the 2x2-neighbour lookup (the
-  /// automotive default) leaves a grid-dependent bias on dense scans.
-  MatcherOptions matcher = defaultMatcher();
+  /// The matcher, at the scanning radars' defaults (MatcherOptions::forScanning).
+  MatcherOptions matcher = MatcherOptions::forScanning();
   ScanningSequenceOptions sequence;
   PowerThresholdOptions front_end;
   /// Scans with chirp types (Boreas from 2024): their up/down-chirp range shifts found and undone
@@ -36,20 +36,41 @@ struct ScanningRunOptions {
   /// Threads: the next scans decoded and thresholded on the others while one is matched, the
   /// matches in order. 0: every core the process may use; 1: one thread, nothing ahead.
   int threads = 0;
-  /// PCL's matchers (pcl-ndt, pcl-icp) get each thresholded scan merged into voxels of this size
-  /// (m; centroid, mean time offset, strongest power), as ours merges its source internally;
-  /// 0: the full scans (about 4x slower for them). Ours always gets the full scans.
+  /// Matchers that do not merge their source themselves (pcl-ndt, pcl-icp: MatcherUses) get each
+  /// thresholded scan merged into voxels of this size (m; centroid, mean time offset, strongest
+  /// power), as pw-ndt merges its source internally; 0: the full scans (about 4x slower for them).
   double pcl_voxel_size = 0.25;
-
-  static MatcherOptions defaultMatcher() {
-    MatcherOptions m;
-    m.ours.cell_lookup = CellLookup::OverlappingGrids;
-    return m;
-  }
   /// Throws std::invalid_argument naming the first setting out of range, including a method that
   /// needs Doppler (doppler, rapp-ndt), which scanning radars do not measure.
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void ScanningRunOptions::fields(Visit&& visit) {
+  using S = ScanningRunOptions;
+  visit(&S::matcher, Field("matcher", "the matcher"));
+  visit(&S::sequence, Field("sequence", "how the sequence's scans are read"));
+  visit(&S::front_end, Field("front_end", "the power threshold"));
+  visit(&S::chirp, Field("chirp", "the chirp correction (Boreas from 2024)"));
+  visit(&S::odometry, Field("odometry", "the scanning odometry"));
+  visit(&S::start, Field("start", "first scan used").cli("start"));
+  visit(&S::max_scans,
+        Field("max_scans", "stop after this many cycles per scene, or scans (0: all)").cli("max-cycles"));
+  visit(&S::threads, Field("threads",
+                           "threads: the next scans or cycles read and through the front-end on the others "
+                           "while one is matched, several nuScenes scenes side by side (outputs "
+                           "identical for any number); 0: every core, 1: one thread")
+                         .atLeast(0)
+                         .cli("threads"));
+  visit(&S::pcl_voxel_size, Field("pcl_voxel_size",
+                                  "scanning points merged into voxels of this size for matchers that do not merge "
+                                  "their source themselves; 0: the full scans")
+                                .unit("m")
+                                .atLeast(0));
+}
 
 /// The defaults for the radar `sequence` was recorded with: the paper's (ScanningRunOptions{}) for
 /// every dataset but Boreas scans with chirp types (the radar of its 2024 sequences, told by the
@@ -64,7 +85,7 @@ constexpr float kBoreasChirpThreshold = 0.43f;
 struct ScanningRunResult {
   std::string sequence;
   ScanFormat format = ScanFormat::Oxford;
-  Method method = Method::PwNdt;
+  std::string method = "pw-ndt";
   double period_s = 0;
   Trajectory estimate;      ///< one pose per matched scan, seconds, first scan identity
   Trajectory ground_truth;  ///< the sequence's, re-based so the first scan used is identity; may be empty

@@ -6,6 +6,8 @@
 
 #include <vector>
 
+#include "radar_ndt/fields.h"
+
 namespace radar_ndt {
 
 /// How a source point finds the target distributions it is scored against.
@@ -16,6 +18,13 @@ enum class CellLookup {
   /// Biber's four overlapping grids, shifted by half a cell in x, y and both; a point is scored
   /// against the cell it falls in, in each grid.
   OverlappingGrids,
+};
+template <>
+struct EnumNames<CellLookup> {
+  static constexpr const char* what = "cell lookup";
+  static constexpr EnumName<CellLookup> names[] = {
+      {CellLookup::Neighbours, "neighbours", "the 2x2 block of cells nearest to the point"},
+      {CellLookup::OverlappingGrids, "overlapping-grids", "Biber's four grids shifted by half a cell"}};
 };
 
 struct WeightedNDT2DSettings {
@@ -71,9 +80,56 @@ struct WeightedNDT2DSettings {
   int min_matched_points = 3;
   double min_information_ratio = 1e-9;
 
-  /// Throws std::invalid_argument naming the first setting out of range (each field's range is
-  /// in its comment; docs/matcher.md lists them).
+  /// Throws std::invalid_argument naming the first setting out of range (the ranges are the
+  /// field table's, below; docs/matcher.md lists them).
   void validate() const;
+  /// The field table (radar_ndt/fields.h).
+  template <typename Visit>
+  static void fields(Visit&& visit);
 };
+
+template <typename Visit>
+void WeightedNDT2DSettings::fields(Visit&& visit) {
+  using S = WeightedNDT2DSettings;
+  visit(&S::resolutions, Field("resolutions", "grid sizes g, coarse to fine").unit("m").positive());
+  visit(&S::power_shift, Field("power_shift", "s of eq. (1)-(2): weights max(p - s, 0)"));
+  visit(&S::shift_source_weights,
+        Field("shift_source_weights", "the matching weights of eq. (2) use the shift too (the paper)"));
+  visit(&S::eigenvalue_ratio,
+        Field("eigenvalue_ratio", "a cell's smallest covariance eigenvalue raised to this ratio of its largest")
+            .positive()
+            .atMost(1));
+  visit(&S::min_points_per_cell, Field("min_points_per_cell", "cells of fewer points are dropped").atLeast(1));
+  visit(&S::cell_lookup, Field("cell_lookup", "how a source point finds its target cells"));
+  visit(&S::source_voxel_size,
+        Field("source_voxel_size", "source points in one voxel merged before matching; 0: off").unit("m").atLeast(0));
+  visit(&S::max_step_translation,
+        Field("max_step_translation", "a Newton step's largest translation; <= 0: half the grid size").unit("m"));
+  visit(&S::max_step_rotation, Field("max_step_rotation", "a Newton step's largest rotation").unit("rad").positive());
+  visit(
+      &S::coarse_subsample,
+      Field("coarse_subsample", "the coarse phase iterates on every k-th source point; 1: no coarse phase").atLeast(1));
+  visit(&S::coarse_min_points,
+        Field("coarse_min_points", "sources of fewer weighted points skip the coarse phase").atLeast(0));
+  visit(&S::coarse_transformation_epsilon,
+        Field("coarse_transformation_epsilon", "the coarse phase's squared translation epsilon").unit("m²").positive());
+  visit(&S::coarse_rotation_epsilon,
+        Field("coarse_rotation_epsilon", "the coarse phase's rotation epsilon").unit("rad").positive());
+  visit(&S::stationary_translation_ratio,
+        Field("stationary_translation_ratio", "a line search improving nothing converged within this share of g")
+            .atLeast(0));
+  visit(&S::stationary_rotation, Field("stationary_rotation", "... and within this rotation").unit("rad").atLeast(0));
+  visit(&S::armijo, Field("armijo", "Armijo's sufficient-decrease factor").positive().below(1));
+  visit(&S::max_halvings, Field("max_halvings", "trial steps of the line search, the full step first").atLeast(1));
+  visit(
+      &S::eigenvalue_floor,
+      Field("eigenvalue_floor", "the Hessian's eigenvalues floored at this share of the largest").positive().below(1));
+  visit(&S::negligible_decrease,
+        Field("negligible_decrease", "a failed line search predicting less than this share of the cost converged")
+            .atLeast(0));
+  visit(&S::min_matched_points, Field("min_matched_points", "degenerate below this many matched points").atLeast(1));
+  visit(&S::min_information_ratio,
+        Field("min_information_ratio", "degenerate below this information eigenvalue ratio").atLeast(0).below(1));
+}
 
 }  // namespace radar_ndt

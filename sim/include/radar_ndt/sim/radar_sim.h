@@ -18,6 +18,7 @@
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/se2.h"
+#include "radar_ndt/sim/sim_options.h"
 
 namespace radar_ndt {
 namespace sim {
@@ -71,38 +72,6 @@ struct MaterialModel {
   double rcs_dbsm;       ///< ARS408 radar cross-section of one detection
 };
 const MaterialModel& materialModel(Material m);
-
-struct WorldOptions {
-  std::uint64_t seed = 1;
-  // Defaults: the automotive simulator's and the radiate profile's world; the oxford profile
-  // (applyProfile) sets a denser city.
-  double road_half_width_min = 4.0;  ///< m, kerb to the path's centre line
-  double road_half_width_max = 8.0;
-  double building_probability = 0.6;     ///< per side and 30 m block: a facade (else open land)
-  double facade_gap_probability = 0.2;   ///< per 3–9 m facade piece: a gap (alleys, drives)
-  double open_land_objects = 6.0;        ///< per side and open block: mean scattered buildings, bushes, cars
-  double parked_car_probability = 0.35;  ///< per 6 m slot along the kerb
-  double pole_spacing = 25.0;            ///< m, mean
-  double tree_probability = 0.4;         ///< per 12 m slot
-  double fence_probability = 0.25;       ///< per block, where there is no facade
-  double hedge_probability = 0.3;        ///< per block, where there is no facade
-  double movers_per_km = 12.0;           ///< moving cars and buses per km of path
-  double bus_share = 0.25;
-  /// 1: the mirror image of the seed's world across the path (every lateral offset and relative
-  /// orientation negated, the same random draws; parked cars on the right kerb, oncoming traffic
-  /// on the left). Exact on a straight path. For telling what a world's layout does from what the
-  /// sensor does. The ground-clutter field is not mirrored.
-  double mirror = 0.0;
-  /// A city beyond the street: per side, this many more rows of building walls behind the first,
-  /// `back_row_spacing` m apart (±30 %), in 5–20 m pieces with `back_row_gap_probability` gaps,
-  /// drawn from their own random stream (0: none; the rest of the world is the same either way).
-  double back_rows = 0.0;
-  double back_row_spacing = 20.0;
-  double back_row_gap_probability = 0.4;
-  /// Throws std::invalid_argument naming the first setting out of range (probabilities in [0, 1],
-  /// sizes positive, mirror 0 or 1).
-  void validate() const;
-};
 
 struct Segment {
   Eigen::Vector2d a, b;
@@ -179,120 +148,6 @@ class World {
   std::vector<std::pair<std::int64_t, std::uint32_t>> cell_items_;  // sorted by key
   mutable std::vector<std::uint32_t> mailbox_;
   mutable std::uint32_t ray_id_ = 0;
-};
-
-/// Navtech CTS350-X scanning radar, Oxford Radar RobotCar layout. The defaults are the oxford
-/// profile's sensor, calibrated against the real Oxford scans in the profile's world
-/// (docs/simulator.md): use applyProfile(Oxford) for both; applyProfile(Radiate) gives the earlier
-/// calibration against RADIATE's.
-struct ScanningOptions {
-  int azimuths = 400;
-  int bins = 3768;
-  double range_resolution = 0.0438;  ///< m per bin (the dataset's figure)
-  double sweep_period = 0.25;        ///< s (4 Hz)
-  int encoder_size = 5600;
-  double beam_width_deg = 1.0;            ///< −3 dB, smeared across neighbouring azimuths
-  int beam_rays = 7;                      ///< sub-rays across ±0.9 beam widths
-  double range_psf_sigma = 0.15;          ///< m, main lobe of the range response
-  double range_sidelobe_db = -32.0;       ///< range sidelobe level relative to each bin of a return
-  double range_sidelobe_length = 0.5;     ///< m, exponential decay of the sidelobes
-  double range_loss_db_per_decade = 0.0;  ///< power fall with range beyond 10 m
-  double target_snr_db = 49.0;            ///< a facade at 10 m, normal incidence, over the noise mean
-  double noise_rise_db = 0.0;             ///< noise mean grows by this much from 0 to max range
-  double display_db_range = 36.0;         ///< dB spanned by 0..255
-  double noise_display_level = 0.08;      ///< 0..1 value of the noise mean
-  /// Compression of strong returns in the displayed power: dB over the noise mean above the knee
-  /// count `display_compression` times (1: a plain log display). 0.35 above 10 dB reproduces the
-  /// power distribution of the thresholded points of the real RADIATE scans.
-  double display_knee_db = 55.0;
-  double display_compression = 0.35;
-  double speckle_looks = 2.0;  ///< target fluctuation: gamma shape (1: Rayleigh)
-  /// Share of facades and vehicle sides smooth enough to mirror (chosen per surface, so a ghost
-  /// is a coherent mirrored structure, not salt noise): the beam bounces off them and what it
-  /// meets next appears behind the mirror, at the total path length.
-  double ghost_probability = 0.3;
-  double ghost_attenuation_db = 12.0;   ///< ghost power below the direct return of what it shows
-  double saturation_probability = 0.0;  ///< per azimuth: a bright saturated line
-  double saturation_db = 10.0;
-  double leakage_db = 15.0;  ///< near-range leakage (first ~1.5 m) over the noise
-  /// Diffuse ground clutter (grass, kerbs, gravel, litter): a fixed random field in the world,
-  /// seen up to the first opaque surface. Mean power over the noise at 10 m of a cluttered cell;
-  /// share of 1 m cells that are cluttered (bilinear between cells); Rayleigh-distributed.
-  double ground_clutter_db = 8.0;
-  double ground_clutter_cover = 0.0;
-  double max_range = 165.0;        ///< m rendered (beyond: noise only)
-  double range_offset_bins = 0.5;  ///< bin b lies at (b + offset) · resolution (Oxford 0.5, RADIATE 0)
-
-  // What the Navtech CTS350-X of the Oxford Radar RobotCar dataset shows beyond the earlier model
-  // (the radiate profile turns each off):
-  /// 1: the power is stored as Navtech's counts: n = ⌊P⌋ of the linear power P in counts (the
-  /// noise mean is `noise_counts`), written as ⌊20·log10 n + 0.12⌋ (0 for n < 1), so 0.5 dB a
-  /// value and a coarse staircase near the floor (0, 6, 9, 12, 14, 15, 17, ...), as the real files
-  /// have it; display_db_range and noise_display_level are then unused. 0: the display above.
-  double display_counts = 1.0;
-  double noise_counts = 2.45;   ///< mean noise power in counts (display_counts)
-  double leakage_length = 0.5;  ///< m, exponential decay of the near-range leakage
-  /// Antenna sidelobes in azimuth: every return also appears in the neighbouring azimuths at this
-  /// level (dB, relative to its main-lobe power) decaying by exp(−|Δθ| / width); −200: none.
-  double azimuth_sidelobe_db = -3.0;
-  double azimuth_sidelobe_width_deg = 0.45;
-  /// A second, long range tail of every return (the radial streaks behind the strongest): this
-  /// many dB below each of its bins, decaying over `range_pedestal_length` m on both sides; −200:
-  /// none.
-  double range_pedestal_db = -70.5;
-  double range_pedestal_length = 8.0;
-  /// What lies behind the first opaque surface still returns this many dB below its direct power
-  /// (the roof-mounted radar's vertical beam sees taller structures over nearer ones; clutter
-  /// behind them too); −200: nothing is seen behind an opaque surface.
-  double over_occluder_db = -15.0;
-  /// Point scatterers off the road (bollards, bins, bicycles, signs, railings, window frames, the
-  /// clutter of a city): `scatterer_density` a m² (0: none), at least `scatterer_clearance` m from
-  /// the path, fixed per seed; each returns `scatterer_db` (dB relative to a facade at the same
-  /// range) with a log-normal spread of `scatterer_sigma_db`, through the beam and range response.
-  double scatterer_density = 0.16;
-  double scatterer_db = -23.0;
-  double scatterer_sigma_db = 9.0;
-  double scatterer_clearance = 6.0;
-  /// Scales every material's return depth (the range over which a surface returns).
-  double depth_scale = 0.2;
-  /// Throws std::invalid_argument naming the first setting out of range (sizes and lengths
-  /// positive, probabilities in [0, 1], levels finite, display_compression in (0, 1]).
-  void validate() const;
-};
-
-/// Sensor profiles: the scanning settings (and the kind of world) that make simulated scans look
-/// like one real dataset's, measured with `radar_sim --realism` against that dataset's own scans.
-///  - Oxford: the CTS350-X as the Oxford Radar RobotCar dataset recorded it (its counts display,
-///    noise floor, gain by range, returns per range band, streaks), in a dense city; the default
-///    for the Oxford-layout output.
-///  - Radiate: the earlier calibration, against RADIATE's foggy scans (plain log display).
-enum class ScanningProfile { Oxford, Radiate };
-/// "oxford" or "radiate"; throws std::invalid_argument otherwise.
-ScanningProfile parseScanningProfile(const std::string& name);
-const char* toString(ScanningProfile profile);
-/// Sets the profile's values in `world` and `scanning` (the seed, geometry and timing are left):
-/// its sensor, and the world it was calibrated in (oxford: a dense city, wide streets, fewer parked
-/// cars, three rows of buildings behind the facades; radiate: WorldOptions' defaults).
-void applyProfile(ScanningProfile profile, WorldOptions& world, ScanningOptions& scanning);
-
-/// ARS408-21 automotive radars with nuScenes' five mountings.
-struct AutomotiveOptions {
-  double period = 1.0 / 13.0;                     ///< s per sweep of each radar
-  double jitter = 0.002;                          ///< s, per-sweep timing jitter
-  double near_fov_deg = 60.0, near_range = 70.0;  ///< ± azimuth
-  double far_fov_deg = 9.0, far_range = 200.0;
-  double ray_step_deg = 0.5;
-  double detection_probability = 0.35;  ///< per surface return (before merging into clusters)
-  double cluster_distance = 1.0;        ///< m: returns closer than this merge into one detection
-  int max_detections = 125;
-  double clutter_per_sweep = 4.0;  ///< mean false detections a sweep
-  double range_sigma = 0.15;       ///< m (ARS408 spec: 0.1 near … 0.4 far)
-  double azimuth_sigma_deg = 0.3;  ///< (spec: 0.1° … 1°)
-  double rcs_sigma_db = 3.0;
-  double doppler_sigma = 0.1;       ///< m/s
-  double ghost_probability = 0.05;  ///< per detection on a vehicle: a mirrored multipath ghost
-  /// Throws std::invalid_argument naming the first setting out of range.
-  void validate() const;
 };
 
 struct SequenceOptions {

@@ -27,6 +27,15 @@ struct EnumNames<CellLookup> {
       {CellLookup::OverlappingGrids, "overlapping-grids", "Biber's four grids shifted by half a cell"}};
 };
 
+/// The line search's constants, one home each: WeightedNDT2DSettings starts from them, and so does
+/// the optimiser's NewtonSettings (detail/newton_optimizer.h) when a test builds one alone.
+struct LineSearchDefaults {
+  static constexpr double armijo = 1e-4;
+  static constexpr int max_halvings = 12;
+  static constexpr double eigenvalue_floor = 1e-6;
+  static constexpr double negligible_decrease = 1e-6;
+};
+
 struct WeightedNDT2DSettings {
   /// Grid sizes g (m), coarse to fine; each stage starts from the previous result.
   std::vector<float> resolutions{3.0f};
@@ -68,13 +77,13 @@ struct WeightedNDT2DSettings {
   double stationary_translation_ratio = 0.05;
   double stationary_rotation = 0.01;
   /// Armijo's sufficient-decrease factor of the line search, in (0, 1).
-  double armijo = 1e-4;
+  double armijo = LineSearchDefaults::armijo;
   /// Trial steps of the line search: the full step and its halvings, at most this many in all.
-  int max_halvings = 12;
+  int max_halvings = LineSearchDefaults::max_halvings;
   /// The Hessian's eigenvalues are mirrored and floored at this fraction of the largest, in (0, 1).
-  double eigenvalue_floor = 1e-6;
+  double eigenvalue_floor = LineSearchDefaults::eigenvalue_floor;
   /// A failed line search that predicts a decrease below this fraction of the cost is converged.
-  double negligible_decrease = 1e-6;
+  double negligible_decrease = LineSearchDefaults::negligible_decrease;
   /// Degenerate: fewer matched source points than this at the solution, or an information matrix
   /// whose smallest eigenvalue is below this ratio of its largest.
   int min_matched_points = 3;

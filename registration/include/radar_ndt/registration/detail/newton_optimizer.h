@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 
+#include "radar_ndt/registration/weighted_ndt_2d_settings.h"
 #include "radar_ndt/se2.h"
 
 namespace radar_ndt {
@@ -58,15 +59,15 @@ struct NewtonSettings {
   StationaryRegion stationary;
   int max_iterations = 35;
   /// The Hessian's eigenvalues are mirrored and floored at this fraction of the largest.
-  double eigenvalue_floor = 1e-6;
+  double eigenvalue_floor = LineSearchDefaults::eigenvalue_floor;
   /// Armijo's sufficient-decrease factor: a trial step passes when it lowers the cost by at least
   /// this fraction of the decrease the gradient predicts.
-  double armijo = 1e-4;
+  double armijo = LineSearchDefaults::armijo;
   /// Trial steps of the line search: the full step, then halved up to this many times less one.
-  int max_halvings = 12;
+  int max_halvings = LineSearchDefaults::max_halvings;
   /// A failed line search whose predicted decrease is below this fraction of the cost is at the
   /// optimum whatever the Newton step's length.
-  double negligible_decrease = 1e-6;
+  double negligible_decrease = LineSearchDefaults::negligible_decrease;
 };
 
 /// Why a minimisation stopped.
@@ -80,7 +81,7 @@ enum class NewtonOutcome {
 /// The Newton direction −H⁻¹g with H made positive definite: its eigenvalues mirrored and
 /// floored at `floor` times the largest. False when H is zero or not finite (no point matched).
 inline bool newtonDirection(const Eigen::Matrix3d& H, const Eigen::Vector3d& g, Eigen::Vector3d* step,
-                            double floor = 1e-6) {
+                            double floor = LineSearchDefaults::eigenvalue_floor) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(H);
   Eigen::Vector3d lambda = es.eigenvalues().cwiseAbs();
   const double lmax = lambda.maxCoeff();

@@ -3,7 +3,7 @@
 # backticks) exists, so the map cannot drift from the code. Paths are tried from the repository
 # root and from each target's include folder (the map writes `frontend/ego_velocity.h` for
 # radar_ndt/include/radar_ndt/frontend/ego_velocity.h). Also: no M_PI (not standard C++) in the
-# sources; every dated note in docs/notes/ is linked from a doc, and every note a doc names exists.
+# sources; no dated notes (docs/notes/ empty or gone, named by no doc); README at most 150 lines.
 # Usage: check_architecture_map.sh REPO_ROOT
 set -u
 root=${1:?usage: check_architecture_map.sh REPO_ROOT}
@@ -30,18 +30,20 @@ if [ -n "$uses" ]; then
   echo "M_PI (not standard C++; use radar_ndt::kPi) in: $uses"
   missing=$((missing + 1))
 fi
-# Every dated note is linked from a doc outside docs/notes/ (or the README), and every note a doc
-# names exists: a note nobody links to belongs folded into a pipeline doc.
-for note in "$root"/docs/notes/*.md; do
-  [ -e "$note" ] || continue
-  name=$(basename "$note")
-  if ! grep -rqF "docs/notes/$name" "$root/README.md" "$root/docs" --include='*.md' --exclude-dir=notes; then
-    echo "docs/notes/$name is linked from no doc (fold it into a pipeline doc's 'Measured and not adopted')"
-    missing=$((missing + 1))
-  fi
-done
-for named in $(grep -rhoE 'docs/notes/[A-Za-z0-9_.-]+\.md' "$root/README.md" "$root/docs" --include='*.md' | sort -u); do
-  [ -e "$root/$named" ] || { echo "$named is named in the docs but does not exist"; missing=$((missing + 1)); }
-done
+# No dated notes: what was measured and not adopted lives in each pipeline doc's section of that
+# name (git keeps the history), and no doc names a note.
+if [ -d "$root/docs/notes" ] && [ -n "$(ls -A "$root/docs/notes" 2>/dev/null)" ]; then
+  echo "docs/notes/ holds dated notes: fold them into a pipeline doc's 'Measured and not adopted'"
+  missing=$((missing + 1))
+fi
+if grep -rqE 'docs/notes/' "$root/README.md" "$root/docs" --include='*.md'; then
+  echo "a doc names docs/notes/: $(grep -rlE 'docs/notes/' "$root/README.md" "$root/docs" --include='*.md' | tr '\n' ' ')"
+  missing=$((missing + 1))
+fi
+# README is the user's manual: at most 150 lines.
+if [ "$(wc -l < "$root/README.md")" -gt 150 ]; then
+  echo "README.md has $(wc -l < "$root/README.md") lines, more than 150 (the rest belongs in docs/)"
+  missing=$((missing + 1))
+fi
 [ $checked -gt 20 ] || { echo "too few paths found in the map: the check itself is broken"; exit 1; }
 [ $missing -eq 0 ]

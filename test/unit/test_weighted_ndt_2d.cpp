@@ -242,7 +242,7 @@ TEST(WeightedNDT2D, SourceVoxelMergeIsTheSameThroughEitherTable) {
 
 // Mirror equivariance: with every point's y (and covariance xy) negated, the answer must be the
 // mirrored one, (x, −y, −yaw), for both cell lookups. The matcher has no preferred handedness; a
-// lookup or cell offset that favoured one side would show here as a mismatch (docs/notes: the
+// lookup or cell offset that favoured one side would show here as a mismatch (docs/scanning_pipeline.md: the
 // simulated drives' yaw bias flips with the data under this mirror, so it is not the code's).
 TEST(WeightedNDT2D, IsMirrorEquivariant) {
   auto mirror = [](const pcl::PointCloud<PointRadar>& in) {

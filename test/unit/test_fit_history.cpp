@@ -49,3 +49,15 @@ TEST(FitHistory, OffAcceptsEverything) {
   o.min_relative_fit = -0.1;
   EXPECT_THROW(o.validate(), std::invalid_argument);
 }
+
+TEST(FitHistory, MinJudgedSetsWhenTheCheckStarts) {
+  FitCheckOptions o;
+  o.min_judged = 2;
+  FitHistory h(o);
+  h.add(1.0);
+  EXPECT_TRUE(h.accepts(0.01)) << "one fit: nothing to judge by yet";
+  h.add(1.0);
+  EXPECT_FALSE(h.accepts(0.01)) << "two fits judge from min_judged = 2 on";
+  o.min_judged = 0;
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+}

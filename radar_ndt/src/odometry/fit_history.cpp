@@ -12,7 +12,7 @@ void FitCheckOptions::validate() const {
 }
 
 bool FitHistory::accepts(double fit) const {
-  if (!(options_.min_relative_fit > 0) || !std::isfinite(fit) || fits_.size() < 5) return true;
+  if (!(options_.min_relative_fit > 0) || !std::isfinite(fit) || fits_.size() < options_.min_judged) return true;
   std::vector<double> v(fits_.begin(), fits_.end());
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
   return fit >= options_.min_relative_fit * v[v.size() / 2];

@@ -17,7 +17,8 @@ struct FitCheckOptions {
   /// usual fit while correct matches stay near it, so this trades a rare needless
   /// constant-velocity step (a few cm off) for refusing those. 0: off.
   double min_relative_fit = 0.6;
-  std::size_t history = 15;  ///< judged matches the median is taken over (checked from 5 on)
+  std::size_t history = 15;    ///< judged matches the median is taken over
+  std::size_t min_judged = 5;  ///< judged matches before the check starts
   void validate() const;
   /// The field table (radar_ndt/fields.h).
   template <typename Visit>
@@ -30,6 +31,8 @@ void FitCheckOptions::fields(Visit&& visit) {
   visit(&S::min_relative_fit,
         Field("min_relative_fit", "refuse a match fitting below this share of recent ones' median; 0: off").atLeast(0));
   visit(&S::history, Field("history", "judged matches the median is taken over").atLeast(0));
+  visit(&S::min_judged,
+        Field("min_judged", "judged matches before the fit check starts").atLeast(1).cli("fit-min-judged"));
 }
 
 /// The fits of the last judged matches, refused ones too: a scene that stays poorer than the last
@@ -39,7 +42,7 @@ class FitHistory {
  public:
   explicit FitHistory(const FitCheckOptions& options = {}) : options_(options) {}
   /// Whether `fit` is at least min_relative_fit × the median of the history (always, with fewer
-  /// than 5 fits, a non-finite fit or the check off).
+  /// than min_judged fits, a non-finite fit or the check off).
   bool accepts(double fit) const;
   /// Enters `fit` into the history (judge it first).
   void add(double fit);

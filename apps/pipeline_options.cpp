@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include "field_options.h"
@@ -105,6 +106,22 @@ std::vector<std::pair<std::string, std::vector<Side>>> pipelineSides() {
   return out;
 }
 
+/// An option the command line gives that sets nothing for `format` is refused, not ignored: a
+/// user who asks for a scanning setting on nuScenes would otherwise believe it was used.
+template <typename R>
+void refuseUnused(const po::variables_map& vm, const std::vector<FieldOption<R>>& fields, const std::string& scope,
+                  const std::string& format) {
+  std::set<std::string> used;
+  for (const auto& f : fields)
+    if (f.scope.empty() || f.scope == scope) used.insert(f.option);
+  for (const auto& [name, sides] : pipelineSides()) {
+    if (used.count(name) || !vm.count(name) || vm[name].defaulted()) continue;
+    std::string labels;
+    for (const Side& s : sides) labels += (labels.empty() ? "" : ", ") + s.label;
+    throw std::invalid_argument("--" + name + " does not apply to --format " + format + " (" + labels + " only)");
+  }
+}
+
 }  // namespace
 
 Pipeline pipelineOf(const std::string& format) {
@@ -176,6 +193,7 @@ void addPipelineOptions(po::options_description& opts) {
 
 AutomotiveRunOptions automotiveOptions(const po::variables_map& vm) {
   AutomotiveRunOptions o;
+  refuseUnused(vm, automotiveFields(), "", "nuscenes");
   applyGiven(vm, automotiveFields(), "", o);
   // The paper's scheme is submap to submap, not fused: the mode chooses both.
   if (vm.count("mode") && o.odometry.mode == AutomotiveMatchMode::SubmapToSubmap)
@@ -188,7 +206,9 @@ AutomotiveRunOptions automotiveOptions(const po::variables_map& vm) {
 
 ScanningRunOptions scanningOptions(const po::variables_map& vm, const ScanningRunOptions& base) {
   ScanningRunOptions o = base;
-  applyGiven(vm, scanningFields(), vm["format"].as<std::string>(), o);
+  const std::string format = vm["format"].as<std::string>();
+  refuseUnused(vm, scanningFields(), format, format);
+  applyGiven(vm, scanningFields(), format, o);
   if (vm["no-prefetch"].as<bool>()) o.threads = 1;
   o.validate();
   return o;

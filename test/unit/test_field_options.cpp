@@ -96,3 +96,12 @@ TEST(FieldOptions, ThePipelinesOptionsAreAppliedAsRadarOdometryAppliesThem) {
   EXPECT_EQ(scanning.threads, 1);
   EXPECT_THROW(apps::scanningOptions(parse({"--format", "oxford", "--method", "doppler"})), std::invalid_argument);
 }
+
+TEST(FieldOptions, AnOptionThatSetsNothingForTheFormatIsRefused) {
+  // --threshold is the scanning front-end's; --bins is Oxford's and Boreas's, not RADIATE's.
+  EXPECT_THROW(apps::automotiveOptions(parse({"--format", "nuscenes", "--threshold", "0.3"})), std::invalid_argument);
+  EXPECT_THROW(apps::scanningOptions(parse({"--format", "radiate", "--bins", "10"})), std::invalid_argument);
+  EXPECT_EQ(apps::scanningOptions(parse({"--format", "boreas", "--bins", "6848"})).sequence.boreas.expected_bins,
+            6848u);
+  EXPECT_NO_THROW(apps::automotiveOptions(parse({"--format", "nuscenes", "--grid", "3"}))) << "both pipelines'";
+}

@@ -11,6 +11,7 @@
 #include "keywords.h"
 #include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/nuscenes_can_bus.h"
 #include "radar_ndt/io/nuscenes_sequence.h"
 #include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/radiate_scan.h"
@@ -353,9 +354,36 @@ void bindRadarCycles(py::module_& m) {
           "Reads cycle k: (RadarCycle, problems), a sweep that cannot be read left out and described in problems.");
 }
 
+/// A time series as a dict of two arrays: stamps (µs, int64) and values.
+py::dict seriesArrays(const TimeSeries& s) {
+  py::dict d;
+  d["stamps_us"] = py::array_t<std::int64_t>(static_cast<py::ssize_t>(s.size()), s.stamps_us.data());
+  d["values"] = py::array_t<double>(static_cast<py::ssize_t>(s.size()), s.values.data());
+  return d;
+}
+
+void bindCanBus(py::module_& m) {
+  m.def(
+      "read_can_bus",
+      [](const std::filesystem::path& dataroot, const std::string& scene) -> py::object {
+        const auto s = readNuScenesCanBus(dataroot.string(), scene);
+        if (!s) return py::none();
+        py::dict d;
+        d["yaw_rate"] = seriesArrays(s->yaw_rate);
+        d["rear_wheel_rpm"] = seriesArrays(s->rear_wheel_rpm);
+        d["dropped"] = s->dropped;
+        return d;
+      },
+      py::arg("dataroot"), py::arg("scene"),
+      "The nuScenes CAN bus of `scene` (radar_ndt/io/nuscenes_can_bus.h): {'yaw_rate': {'stamps_us', "
+      "'values' (rad/s)}, 'rear_wheel_rpm': {...}, 'dropped'}, or None when dataroot/can_bus is not there. "
+      "IoError naming the file for a missing or malformed message file.");
+}
+
 void bindNuScenes(py::module_& m) {
   bindNuScenesDataset(m);
   bindRadarCycles(m);
+  bindCanBus(m);
 }
 
 }  // namespace

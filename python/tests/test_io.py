@@ -99,3 +99,15 @@ def test_trajectory_files_round_trip(work):
         assert np.allclose(back.xy_yaw, poses, atol=1e-6)
     assert np.allclose(t.pose_at(10.125)[:2, 3], [0.5, 0.05])
     assert t.pose_at(11.0) is None
+
+
+def test_nuscenes_can_bus_as_arrays(work):
+    need(NUSCENES / "can_bus")
+    can = radar_ndt.read_can_bus(str(NUSCENES), "scene-0061")
+    yaw, wheels = can["yaw_rate"], can["rear_wheel_rpm"]
+    assert yaw["stamps_us"].dtype == np.int64 and len(yaw["stamps_us"]) == len(yaw["values"]) > 1000
+    assert np.all(np.diff(yaw["stamps_us"]) > 0) and np.all(np.diff(wheels["stamps_us"]) > 0)
+    # scene-0061 turns left by about 98 degrees: the integrated z rate is positive.
+    turn = np.trapz(yaw["values"], yaw["stamps_us"] * 1e-6)
+    assert 1.5 < turn < 1.9
+    assert radar_ndt.read_can_bus(str(work), "scene-0061") is None  # no can_bus folder: nothing

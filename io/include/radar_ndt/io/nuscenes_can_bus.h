@@ -1,0 +1,32 @@
+#pragma once
+// The nuScenes CAN bus expansion as its devkit reads it (NuScenesCanBus): one JSON file per scene
+// and message, <dataroot>/can_bus/<scene>_<message>.json, each a list of messages with `utime` (µs,
+// on the sweeps' clock). What the pipelines use of it, as time series they query by interval:
+//  - ms_imu (100 Hz): `rotation_rate` [x, y, z] rad/s in the IMU's frame (x forward, y left, z up):
+//    the yaw rate is z;
+//  - zoe_veh_info (100 Hz): `RL_wheel_speed`, `RR_wheel_speed` (rpm): the rear axle, where the
+//    nuScenes ego frame sits, so their mean times 2π r / 60 is the ego frame's speed.
+// Python's json module writes NaN and Infinity as bare words, which JSON has not: they are read as
+// missing values, and a message whose value is missing is left out (counted).
+
+#include <cstddef>
+#include <optional>
+#include <string>
+
+#include "radar_ndt/io/vehicle_signals.h"
+#include "radar_ndt/time_series.h"
+
+namespace radar_ndt {
+
+/// The CAN bus of `scene_name` under `dataroot`: nothing when `dataroot`/can_bus is not there (the
+/// run goes on without it; the caller says so). Throws IoError naming the file when the folder is
+/// there but a message file is missing, is not a JSON list of objects, or a message lacks `utime`
+/// or a value, holds a value of the wrong type, or runs back in time.
+std::optional<VehicleSignals> readNuScenesCanBus(const std::string& dataroot, const std::string& scene_name);
+
+/// One message file's series: `key` (a number, or element `index` of an array of numbers) against
+/// `utime`. Messages with equal `utime` keep the first. Throws IoError as above.
+TimeSeries readCanBusSeries(const std::string& file, const std::string& key, int index = -1,
+                            std::size_t* dropped = nullptr);
+
+}  // namespace radar_ndt

@@ -1,0 +1,136 @@
+#include "radar_ndt/io/nuscenes_can_bus.h"
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include <nlohmann/json.hpp>
+
+#include "radar_ndt/io/io_error.h"
+#include "read_file.h"
+
+namespace radar_ndt {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+/// Python's json.dump writes NaN, Infinity and -Infinity bare; JSON has no such words, so they
+/// become null (outside strings) before parsing.
+std::string nullNonFinite(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size();) {
+    const char c = text[i];
+    if (in_string) {
+      out += c;
+      if (c == '\\' && i + 1 < text.size())
+        out += text[++i];
+      else if (c == '"')
+        in_string = false;
+      ++i;
+      continue;
+    }
+    std::size_t word = 0;
+    for (const char* w : {"-Infinity", "Infinity", "NaN"})
+      if (text.compare(i, std::char_traits<char>::length(w), w) == 0) {
+        word = std::char_traits<char>::length(w);
+        break;
+      }
+    if (word) {
+      out += "null";
+      i += word;
+      continue;
+    }
+    in_string = c == '"';
+    out += c;
+    ++i;
+  }
+  return out;
+}
+
+/// The value of `message`[key] (or its element `index`): NaN for null, IoError for anything else
+/// that is not a number.
+double valueOf(const json& message, const std::string& key, int index, const std::string& file, std::size_t i) {
+  const auto where = [&] { return "message " + std::to_string(i) + ": '" + key + "'"; };
+  const auto it = message.find(key);
+  if (it == message.end()) throw IoError(file, where() + " is missing");
+  const json* v = &*it;
+  if (index >= 0) {
+    if (!v->is_array() || v->size() <= static_cast<std::size_t>(index))
+      throw IoError(file, where() + " is not an array of at least " + std::to_string(index + 1) + " numbers");
+    v = &(*v)[static_cast<std::size_t>(index)];
+  }
+  if (v->is_null()) return std::numeric_limits<double>::quiet_NaN();
+  if (!v->is_number()) throw IoError(file, where() + " is not a number");
+  return v->get<double>();
+}
+
+}  // namespace
+
+TimeSeries readCanBusSeries(const std::string& file, const std::string& key, int index, std::size_t* dropped) {
+  json messages;
+  try {
+    messages = json::parse(nullNonFinite(detail::readWholeFile(file)));
+  } catch (const json::exception& e) {
+    throw IoError(file, std::string("invalid JSON: ") + e.what());
+  }
+  if (!messages.is_array()) throw IoError(file, "expected a JSON list of messages");
+  TimeSeries series;
+  for (std::size_t i = 0; i < messages.size(); ++i) {
+    const json& m = messages[i];
+    if (!m.is_object()) throw IoError(file, "message " + std::to_string(i) + " is not a JSON object");
+    const auto t = m.find("utime");
+    if (t == m.end() || !t->is_number_integer())
+      throw IoError(file, "message " + std::to_string(i) + ": 'utime' is missing or not an integer");
+    const std::int64_t utime = t->get<std::int64_t>();
+    const double value = valueOf(m, key, index, file, i);
+    if (!series.empty() && utime < series.stamps_us.back())
+      throw IoError(file, "message " + std::to_string(i) + ": utime " + std::to_string(utime) +
+                              " runs back in time (the one before is " + std::to_string(series.stamps_us.back()) + ")");
+    if (!std::isfinite(value)) {
+      if (dropped) ++*dropped;
+      continue;
+    }
+    if (!series.empty() && utime == series.stamps_us.back()) continue;
+    series.stamps_us.push_back(utime);
+    series.values.push_back(value);
+  }
+  return series;
+}
+
+std::optional<VehicleSignals> readNuScenesCanBus(const std::string& dataroot, const std::string& scene_name) {
+  const fs::path dir = fs::path(dataroot) / "can_bus";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return std::nullopt;
+  const auto file = [&](const char* message) {
+    const std::string path = (dir / (scene_name + "_" + message + ".json")).string();
+    if (!fs::exists(path, ec))
+      throw IoError(path, std::string("missing: the CAN bus folder has no ") + message + " message for " + scene_name);
+    return path;
+  };
+  VehicleSignals s;
+  s.source = dir.string();
+  s.yaw_rate = readCanBusSeries(file("ms_imu"), "rotation_rate", 2, &s.dropped);
+  const std::string wheels = file("zoe_veh_info");
+  const TimeSeries left = readCanBusSeries(wheels, "RL_wheel_speed", -1, &s.dropped);
+  const TimeSeries right = readCanBusSeries(wheels, "RR_wheel_speed", -1, &s.dropped);
+  // The two wheels come in the same messages: their mean where both are there.
+  for (std::size_t i = 0, j = 0; i < left.size() && j < right.size();) {
+    if (left.stamps_us[i] < right.stamps_us[j]) {
+      ++i;
+    } else if (right.stamps_us[j] < left.stamps_us[i]) {
+      ++j;
+    } else {
+      s.rear_wheel_rpm.stamps_us.push_back(left.stamps_us[i]);
+      s.rear_wheel_rpm.values.push_back(0.5 * (left.values[i++] + right.values[j++]));
+    }
+  }
+  if (s.yaw_rate.empty()) throw IoError(file("ms_imu"), "no message with a yaw rate");
+  if (s.rear_wheel_rpm.empty()) throw IoError(wheels, "no message with both rear wheels' speeds");
+  return s;
+}
+
+}  // namespace radar_ndt

@@ -26,7 +26,7 @@ struct FieldOption {
   std::string path;                                 ///< where the field lives: "odometry.keyframes.distance"
   std::string scope;                                ///< "" or the layout it applies to alone ("oxford")
   Field field;                                      ///< the table's description
-  bool off_switch = false;                          ///< a switch that turns the flag off (--no-gate)
+  bool off_switch = false;                          ///< a switch: turns the flag off (--no-gate) or on (--imu)
   bool numeric = false;                             ///< a number (radar_sim's settings are these)
   std::string choices;                              ///< "polar | rms", the matcher registry's list, ...
   std::string default_text;                         ///< the value in the defaults it was made from
@@ -175,8 +175,8 @@ void collect(const Get& get, const std::string& path, const char* scope, const R
       o.default_text = text(sub(copy), f);
       const std::string option = o.option;
       if (o.off_switch)
-        o.set = [sub](R& r, const std::string&) {
-          if constexpr (std::is_same_v<M, bool>) sub(r) = false;
+        o.set = [sub, f](R& r, const std::string&) {
+          if constexpr (std::is_same_v<M, bool>) sub(r) = f.switch_sets;
         };
       else
         o.set = [sub, option, f](R& r, const std::string& value) { assign(sub(r), option, value, f); };

@@ -155,8 +155,8 @@ std::string pipelineOptionsMarkdown() {
       if (one_default && !defaults.empty()) defaults = s.default_text;
       std::string escaped;
       for (const char c : meaning) escaped += c == '|' ? std::string("\\|") : std::string(1, c);
-      out += "| `--" + name + "` | `" + s.path + "`" + (s.off_switch ? " = false" : "") + " | " + labels + " | " +
-             escaped + " | " + defaults + " |\n";
+      out += "| `--" + name + "` | `" + s.path + "`" + (s.off_switch ? (f.switch_sets ? " = true" : " = false") : "") +
+             " | " + labels + " | " + escaped + " | " + defaults + " |\n";
     }
   }
   return out;

@@ -129,7 +129,7 @@ json medianOf(int repeats, const std::function<json()>& run) {
 std::vector<std::string> scanningMethods() {
   std::vector<std::string> out;
   for (const std::string& name : matcherNames())
-    if (!findMatcher(name).uses.needs_doppler) out.push_back(name);
+    if (!findMatcher(name).uses.automotiveOnly()) out.push_back(name);
   return out;
 }
 

@@ -69,7 +69,7 @@ int benchNuScenes(const std::string& dataroot, std::size_t stride, bool json) {
   // weights are the odometry's), at the automotive defaults.
   for (const std::string& m : matcherNames()) {
     const MatcherUses& uses = findMatcher(m).uses;
-    if (uses.needs_doppler || uses.doppler_weights) continue;
+    if (uses.automotiveOnly() || uses.doppler_weights) continue;
     MatcherOptions options = MatcherOptions::forAutomotive();
     options.method = m;
     RadarRegistration::Ptr reg = makeMatcher(options).registrationPtr();

@@ -118,6 +118,7 @@ void bindAutomotiveOptions(py::module_& m) {
   bindOptions<EgoVelocityOptions>(m, "EgoVelocityOptions", "radar_ndt/frontend/ego_velocity.h");
   bindOptions<AutomotiveFrontEndOptions>(m, "AutomotiveFrontEndOptions", "radar_ndt/frontend/automotive_front_end.h");
   bindOptions<MotionFusionOptions>(m, "MotionFusionOptions", "radar_ndt/odometry/motion_fusion.h");
+  bindOptions<CarSensorOptions>(m, "CarSensorOptions", "radar_ndt/odometry/car_fusion.h");
   bindOptions<AutomotiveMotionGateOptions>(m, "AutomotiveMotionGateOptions", "radar_ndt/odometry/motion_gate.h");
   bindOptions<AutomotiveOdometryOptions>(m, "AutomotiveOdometryOptions", "radar_ndt/odometry/automotive_odometry.h");
   py::class_<AutomotiveOdometryOptions>(m.attr("AutomotiveOdometryOptions"))

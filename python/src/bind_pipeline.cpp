@@ -203,9 +203,9 @@ void bindScanningOdometry(py::module_& m) {
       "MatcherOptions fields (default: the scanning radars', MatcherOptions::forScanning).")
       .def(py::init([](const std::string& method, const py::object& matcher, const py::kwargs& kw) {
              const MatcherOptions mo = matcherOptions(MatcherOptions::forScanning(), method, matcher);
-             if (findMatcher(mo.method).uses.needs_doppler)
+             if (findMatcher(mo.method).uses.automotiveOnly())
                throw std::invalid_argument("method " + mo.method +
-                                           " needs Doppler, which scanning radars do not measure");
+                                           " needs Doppler or a car's CAN bus, which scanning sequences do not have");
              const auto o = withKeywords(ScanningOdometryOptions{}, kw, "ScanningOdometry", "method, matcher");
              return std::make_unique<ScanningOdometry>(o, makeMatcher(mo));
            }),

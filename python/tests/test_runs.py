@@ -159,3 +159,17 @@ def test_the_gil_is_released_while_a_run_works():
     # The run takes hundreds of milliseconds; holding the GIL, this thread would not tick at all.
     assert time.perf_counter() - start > 0.05 and ticks > 10
     assert len(result["run"].estimate) == len(list((OXFORD / "radar").glob("*.png")))
+
+
+def test_the_cars_sensors_through_run_automotive(work):
+    """The car's own dead reckoning and the fused run, from Python as from the app."""
+    need(NUSCENES / "can_bus")
+    runs = [("wheel-gyro", {}, []), ("pw-ndt", {"odometry": {"car": {"gyro": True, "wheels": True}}},
+                                     ["--imu", "--wheels"])]
+    for method, kw, flags in runs:
+        run = radar_ndt.run_automotive(str(NUSCENES), SCENE, method=method, max_cycles=60, **kw)
+        ours, theirs = work / f"{method}.py.tum", work / f"{method}.app.tum"
+        radar_ndt.write_trajectory(str(ours), run.estimate, "tum")
+        app("radar_odometry", "--format", "nuscenes", "--dataroot", NUSCENES, "--scene", SCENE, "--method", method,
+            *flags, "--max-cycles", "60", "--out", theirs, "-q")
+        assert ours.read_bytes() == theirs.read_bytes(), method

@@ -258,3 +258,63 @@ TEST(AutomotiveOdometry, KeepsNoPointerToTheCallersCloud) {
     EXPECT_EQ(c.cloud.use_count(), 1) << "cycle " << k;
   }
 }
+
+namespace {
+
+/// A car that rolls its rear wheels at `rpm` and turns at a yaw rate that steps from 0 to 0.2 rad/s
+/// at 0.5 s, sampled at 100 Hz from 0 to 3 s (time shifted by `shift_us`).
+std::shared_ptr<const VehicleSignals> steppingCar(double rpm, std::int64_t shift_us = 0) {
+  auto s = std::make_shared<VehicleSignals>();
+  for (std::int64_t t = 0; t <= 3000000; t += 10000) {
+    s->yaw_rate.stamps_us.push_back(t + shift_us);
+    s->yaw_rate.values.push_back(t < 500000 ? 0.0 : 0.2);
+    s->rear_wheel_rpm.stamps_us.push_back(t + shift_us);
+    s->rear_wheel_rpm.values.push_back(rpm);
+  }
+  return s;
+}
+
+/// The car's own dead reckoning (wheel-gyro) over cycles every 77 ms: the last step.
+OdometryStep deadReckonedCar(const CarSensorOptions& car, const std::shared_ptr<const VehicleSignals>& signals) {
+  AutomotiveOdometryOptions o;
+  o.car = car;
+  o.fuse_doppler = false;
+  AutomotiveOdometry odo(o, nullptr);
+  odo.setVehicleSignals(signals);
+  // The Doppler says something else entirely: the car's sensors make the motion.
+  for (int k = 0; k <= 26; ++k) odo.add(constantCycle(k * 77000, Eigen::Vector3d(1.0, 0.0, -0.5)));
+  return odo.steps().back();
+}
+
+}  // namespace
+
+TEST(AutomotiveOdometry, TheCarsOwnDeadReckoningIntegratesGyroAndWheelsOverEachCycle) {
+  CarSensorOptions car;
+  car.gyro = car.wheels = true;
+  car.wheel_radius = 0.5;
+  const double rpm = 120.0;  // 2 rev/s × 2π × 0.5 m = 2π m/s
+  const OdometryStep last = deadReckonedCar(car, steppingCar(rpm));
+  const double dt = 0.077, speed = 2.0 * kPi;
+  // Over the last cycle (1.925 s to 2.002 s) the yaw rate is 0.2 rad/s throughout.
+  EXPECT_NEAR(last.motion.z(), 0.2 * dt, 1e-9) << "the gyro's integral over the cycle";
+  EXPECT_NEAR(last.motion.head<2>().norm(), speed * dt, 1e-4) << "rpm × 2π r / 60 over the cycle, r the setting";
+  // The heading: 0.2 rad/s from 0.5 s to the last cycle's 2.002 s, counter-clockwise positive, and
+  // half of it over the 10 ms ramp the samples at 0.49 s and 0.5 s interpolate.
+  EXPECT_NEAR(last.pose.z(), 0.2 * (2.002 - 0.5) + 0.5 * 0.2 * 0.01, 1e-9);
+  // A CAN clock 0.1 s ahead of the radar's is undone by time_offset.
+  car.time_offset = 0.1;
+  const OdometryStep shifted = deadReckonedCar(car, steppingCar(rpm, 100000));
+  EXPECT_NEAR(shifted.pose.z(), last.pose.z(), 1e-9);
+  EXPECT_NEAR((shifted.pose - last.pose).norm(), 0.0, 1e-9);
+}
+
+TEST(AutomotiveOdometry, WithCarSensorsButNoSignalsTheRunIsTheDopplerOne) {
+  AutomotiveOdometryOptions with_car;
+  with_car.car.gyro = with_car.car.wheels = true;
+  AutomotiveOdometry a(AutomotiveOdometryOptions{}, nullptr), b(with_car, nullptr);
+  for (int k = 0; k < 10; ++k) {
+    a.add(constantCycle(k * 77000, Eigen::Vector3d(5.0, 0.1, 0.05)));
+    b.add(constantCycle(k * 77000, Eigen::Vector3d(5.0, 0.1, 0.05)));
+  }
+  EXPECT_EQ(a.steps().back().pose, b.steps().back().pose);
+}

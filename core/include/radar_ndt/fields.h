@@ -122,8 +122,10 @@ struct Field {
   /// The command-line option (radar_odometry --keyframe-distance; radar_sim --set NAME); null:
   /// not on the command line.
   const char* cli_name = nullptr;
-  /// A flag the command line turns off with a switch (cli_name, e.g. "no-gate"): what that does.
+  /// A flag the command line sets with a switch (cli_name, e.g. "no-gate"): what that does.
   const char* off_switch_help = nullptr;
+  /// What that switch sets the flag to: false (offSwitch, "--no-gate") or true (onSwitch, "--imu").
+  bool switch_sets = false;
   /// A flag the command line spells as one of two names (--points polar|cartesian).
   const char* false_name = nullptr;
   const char* true_name = nullptr;
@@ -164,7 +166,11 @@ struct Field {
   }
   /// On the command line as a switch that turns the flag off, doing what `help_text` says.
   Field offSwitch(const char* option, const char* help_text) const {
-    return with([&](Field& f) { f.cli_name = option, f.off_switch_help = help_text; });
+    return with([&](Field& f) { f.cli_name = option, f.off_switch_help = help_text, f.switch_sets = false; });
+  }
+  /// On the command line as a switch that turns the flag on, doing what `help_text` says.
+  Field onSwitch(const char* option, const char* help_text) const {
+    return with([&](Field& f) { f.cli_name = option, f.off_switch_help = help_text, f.switch_sets = true; });
   }
   /// On the command line as `option` taking `if_false` or `if_true`.
   Field spelled(const char* option, const char* if_false, const char* if_true) const {

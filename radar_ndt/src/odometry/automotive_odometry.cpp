@@ -30,7 +30,8 @@ AutomotiveOdometry::AutomotiveOdometry(const AutomotiveOdometryOptions& options,
       // CycleToMap needs the submap only to integrate the Doppler motion: one cycle is enough.
       submap_(options.mode == AutomotiveMatchMode::CycleToMap ? 1 : options.submap_size),
       map_(options.map_cycles),
-      fusion_(options.fusion) {
+      fusion_(options.fusion),
+      car_fusion_(options.car, options.fusion) {
   options_.validate();
   // The fusion trusts a match as calibrated for the matcher that makes it.
   if (matcher_.weightedNdt())
@@ -68,9 +69,10 @@ const OdometryStep& AutomotiveOdometry::add(const ProcessedCycle& cycle) {
   const double dt = prev ? 1e-6 * static_cast<double>(cycle.timestamp_us - prev->timestamp_us) : 0.0;
   const pcl::PointCloud<PointRadar>::Ptr submap = addToSubmap(cycle, ego, dt, step);
   if (!prev) return addFirstCycle(cycle, ego, submap, step);
-  const MotionEstimate prior = dopplerPrior(dt, step);
+  const MotionEstimate prior =
+      usesCar() ? carPrior(prev->timestamp_us, cycle.timestamp_us, dt, step) : dopplerPrior(dt, step);
   const MotionEstimate estimate = matchAndFuse(cycle, submap, prior, dt, step);
-  step.yaw_rate_bias = fusion_.yawRateBias();
+  step.yaw_rate_bias = usesCar() ? car_fusion_.bias() : fusion_.yawRateBias();
   step.motion = estimate.motion;
   step.pose = compose(prev->pose, estimate.motion);
   motion_model_.update(estimate.motion, dt);
@@ -94,6 +96,7 @@ const OdometryStep& AutomotiveOdometry::addFirstCycle(const ProcessedCycle& cycl
   step.status = StepStatus::First;
   map_.clear();
   fusion_.reset();
+  car_fusion_.reset();
   keepForNextMatch(cycle, ego.velocity, submap);
   return log_.add(step);
 }
@@ -104,6 +107,34 @@ MotionEstimate AutomotiveOdometry::dopplerPrior(double dt, OdometryStep& step) {
   step.prior_covariance = submap_.lastMotionCovariance();
   MotionEstimate prior{step.prior_motion, step.prior_covariance};
   if (options_.fuse_doppler) prior = fusion_.predict(step.prior_motion, step.prior_covariance, dt);
+  return prior;
+}
+
+CarMotion AutomotiveOdometry::carMotion(std::int64_t t0_us, std::int64_t t1_us) const {
+  const auto offset = static_cast<std::int64_t>(std::llround(options_.car.time_offset * 1e6));
+  CarMotion car;
+  if (options_.car.gyro && !signals_->yaw_rate.empty()) {
+    car.has_yaw = true;
+    car.yaw = signals_->yaw_rate.integral(t0_us + offset, t1_us + offset);
+  }
+  if (options_.car.wheels && !signals_->rear_wheel_rpm.empty()) {
+    car.has_distance = true;
+    // rpm × 2π r / 60 is m/s: the revolutions' integral times the circumference.
+    car.distance = signals_->rear_wheel_rpm.integral(t0_us + offset, t1_us + offset) / 60.0 * 2.0 * kPi *
+                   options_.car.wheel_radius;
+  }
+  return car;
+}
+
+MotionEstimate AutomotiveOdometry::carPrior(std::int64_t t0_us, std::int64_t t1_us, double dt, OdometryStep& step) {
+  // The Doppler motion is still the step's record of the radar's own prior; the car's sensors
+  // make the guess (with wheels and the fusion on, the Doppler translation corrects their scale).
+  const Pose2 doppler = submap_.lastMotion();
+  const Eigen::Matrix3d doppler_cov = submap_.lastMotionCovariance();
+  const MotionEstimate prior =
+      car_fusion_.predict(carMotion(t0_us, t1_us), doppler, doppler_cov, dt, options_.fuse_doppler);
+  step.prior_motion = prior.motion;
+  step.prior_covariance = prior.covariance;
   return prior;
 }
 
@@ -127,6 +158,8 @@ MotionEstimate AutomotiveOdometry::matchAndFuse(const ProcessedCycle& cycle,
   if (step.status != StepStatus::Matched && step.status != StepStatus::Retried) return prior;
   step.match_motion = match;
   step.match_covariance = matcher_.poseCovariance();
+  if (options_.fuse_doppler && usesCar())
+    return car_fusion_.update(match, fusion_.matchCovariance(&step.match_covariance, calibration_));
   if (options_.fuse_doppler)
     return fusion_.update(match, fusion_.matchCovariance(&step.match_covariance, calibration_));
   MotionEstimate estimate = prior;

@@ -4,10 +4,13 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <utility>
 
 #include "detail/run_timing.h"
 #include "pipeline/ordered_pipeline.h"
+#include "radar_ndt/io/nuscenes_can_bus.h"
 
 namespace radar_ndt {
 
@@ -27,6 +30,13 @@ void AutomotiveRunOptions::validate() const {
     throw std::invalid_argument(std::string("AutomotiveRunOptions: odometry.doppler_weights must be ") +
                                 (doppler_weights ? "true" : "false") + " for method " + matcher.method +
                                 " (withMethod sets it)");
+  const MatcherUses& uses = findMatcher(matcher.method).uses;
+  if ((uses.gyro && !odometry.car.gyro) || (uses.wheels && !odometry.car.wheels))
+    throw std::invalid_argument("AutomotiveRunOptions: method " + matcher.method + " needs odometry.car." +
+                                (uses.gyro && !odometry.car.gyro ? "gyro" : "wheels") + " on (withMethod sets it)");
+  if (!uses.doppler_fusion && odometry.fuse_doppler)
+    throw std::invalid_argument("AutomotiveRunOptions: odometry.fuse_doppler must be false for method " +
+                                matcher.method + ": it is dead reckoning without the radar (withMethod sets it)");
   if (doppler_weights && front_end.remove_moving)
     throw std::invalid_argument("AutomotiveRunOptions: front_end.remove_moving must be false for method " +
                                 matcher.method +
@@ -38,6 +48,9 @@ AutomotiveRunOptions withMethod(AutomotiveRunOptions options, const std::string&
   options.matcher.method = method;
   options.odometry.doppler_weights = uses.doppler_weights;
   if (uses.doppler_weights) options.front_end.remove_moving = false;
+  options.odometry.car.gyro = options.odometry.car.gyro || uses.gyro;
+  options.odometry.car.wheels = options.odometry.car.wheels || uses.wheels;
+  if (!uses.doppler_fusion) options.odometry.fuse_doppler = false;
   return options;
 }
 
@@ -108,6 +121,26 @@ PreparedCycle prepareCycle(const NuScenesRadarSequence& sequence, const Automoti
   return p;
 }
 
+/// The scene's CAN bus when the options fuse it: none, said in `problems`, when the dataroot has no
+/// can_bus folder (a method that is the car's own dead reckoning cannot run without it).
+std::shared_ptr<const VehicleSignals> vehicleSignals(const NuScenesDataset& dataset, const NuScenesScene& scene,
+                                                     const AutomotiveRunOptions& options,
+                                                     std::vector<std::string>& problems) {
+  std::optional<VehicleSignals> signals = readNuScenesCanBus(dataset.dataroot(), scene.name);
+  if (signals) {
+    if (signals->dropped)
+      problems.push_back(signals->source + ": " + std::to_string(signals->dropped) +
+                         " CAN messages without a value (NaN) left out");
+    return std::make_shared<const VehicleSignals>(std::move(*signals));
+  }
+  const MatcherUses& uses = findMatcher(options.matcher.method).uses;
+  const std::string missing = dataset.dataroot() + "/can_bus: missing";
+  if (uses.gyro || uses.wheels)
+    throw std::invalid_argument(missing + ": method " + options.matcher.method + " needs the car's CAN bus");
+  problems.push_back(missing + ": the run goes on without the car's gyro and wheel speeds");
+  return nullptr;
+}
+
 /// A cycle a matcher could not match for too few points, as a problem naming it; "" otherwise.
 std::string problemOf(const OdometryStep& step, const AutomotiveOdometryOptions& options) {
   if (step.status != StepStatus::DeadReckoned || !step.too_few_points) return "";
@@ -125,6 +158,8 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
   const NuScenesRadarSequence sequence(dataset, scene, options.sequence);
   const AutomotiveFrontEnd front_end(options.front_end);
   AutomotiveOdometry odometry(options.odometry, std::move(matcher));
+  std::vector<std::string> car_problems;
+  if (options.odometry.car.any()) odometry.setVehicleSignals(vehicleSignals(dataset, scene, options, car_problems));
 
   AutomotiveRunResult result;
   result.scene = scene.name;
@@ -133,6 +168,7 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
   result.reference_channel = sequence.referenceChannel();
   result.period_s = sequence.periodSeconds();
   result.problems = sequence.silences();
+  result.problems.insert(result.problems.begin(), car_problems.begin(), car_problems.end());
   const std::size_t n = options.max_cycles > 0 ? std::min(options.max_cycles, sequence.size()) : sequence.size();
   CycleSamples samples;
   EgoVelocity last_valid;

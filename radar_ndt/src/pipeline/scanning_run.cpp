@@ -22,12 +22,13 @@ using detail::msBetween;
 
 void ScanningRunOptions::validate() const {
   checkFields(*this, "ScanningRunOptions");
-  if (findMatcher(matcher.method).uses.needs_doppler) {
+  if (findMatcher(matcher.method).uses.automotiveOnly()) {
     std::string others;
     for (const std::string& name : matcherNames())
-      if (!findMatcher(name).uses.needs_doppler) others += (others.empty() ? "" : ", ") + name;
-    throw std::invalid_argument("method " + matcher.method + " needs Doppler, which scanning radars do not measure (" +
-                                others + ")");
+      if (!findMatcher(name).uses.automotiveOnly()) others += (others.empty() ? "" : ", ") + name;
+    throw std::invalid_argument("method " + matcher.method +
+                                " needs Doppler or a car's CAN bus, which scanning sequences do not have (" + others +
+                                ")");
   }
 }
 

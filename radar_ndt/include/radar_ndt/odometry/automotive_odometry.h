@@ -15,6 +15,7 @@
 // the matcher (MatcherAdapter).
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,8 @@
 #include "radar_ndt/frontend/automotive_front_end.h"
 #include "radar_ndt/frontend/probabilistic_submap.h"
 #include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/io/vehicle_signals.h"
+#include "radar_ndt/odometry/car_fusion.h"
 #include "radar_ndt/odometry/local_map.h"
 #include "radar_ndt/odometry/matcher.h"
 #include "radar_ndt/odometry/motion_fusion.h"
@@ -57,6 +60,8 @@ struct AutomotiveOdometryOptions {
   /// as in the paper.
   bool fuse_doppler = true;
   MotionFusionOptions fusion;
+  /// The car's own gyro and wheel speeds (CarFusion), used when given (setVehicleSignals).
+  CarSensorOptions car;
   // The retries; the grid g they start from is the matcher's (MatcherOptions, MatcherAdapter::nominal).
   double grid_step = 2.0;  ///< added to g at each retry
   int max_retries = 4;
@@ -93,6 +98,7 @@ void AutomotiveOdometryOptions::fields(Visit&& visit) {
                                          "the accepted match is the motion, not fused with "
                                          "the Doppler motion (ablation; paper mode never fuses)"));
   visit(&S::fusion, Field("fusion", "the fusion's covariances"));
+  visit(&S::car, Field("car", "the car's own gyro and wheel speeds"));
   visit(&S::grid_step, Field("grid_step", "added to g at each retry").unit("m").atLeast(0));
   visit(&S::max_retries, Field("max_retries", "retries with a larger grid").atLeast(0));
   visit(&S::gate, Field("gate", "the motion gate"));
@@ -117,6 +123,9 @@ class AutomotiveOdometry {
   /// A cycle at `timestamp_us` that could not be read: a Bridged step whose pose continues the
   /// last step at its velocity; the submap is untouched.
   const OdometryStep& bridge(std::int64_t timestamp_us) { return log_.bridge(timestamp_us, motion_model_); }
+  /// The car's own sensors over the recording, on the radar's clock plus options().car.time_offset;
+  /// options().car says which of them are fused (CarFusion). Null: the Doppler prior alone.
+  void setVehicleSignals(std::shared_ptr<const VehicleSignals> signals) { signals_ = std::move(signals); }
 
   const std::vector<OdometryStep>& steps() const { return log_.steps(); }
   const OdometryCounters& counters() const { return log_.counters(); }
@@ -136,6 +145,12 @@ class AutomotiveOdometry {
                                     const pcl::PointCloud<PointRadar>::Ptr& submap, OdometryStep& step);
   /// The Doppler motion of the cycle, fused: the bias-corrected prediction (the match's guess).
   MotionEstimate dopplerPrior(double dt, OdometryStep& step);
+  /// Whether the car's sensors make the prior (CarFusion).
+  bool usesCar() const { return signals_ && options_.car.any(); }
+  /// What the car's sensors measured from t0 to t1 (radar clock).
+  CarMotion carMotion(std::int64_t t0_us, std::int64_t t1_us) const;
+  /// The prior from the car's sensors and the Doppler motion (CarFusion::predict).
+  MotionEstimate carPrior(std::int64_t t0_us, std::int64_t t1_us, double dt, OdometryStep& step);
   /// The match of the cycle (or submap) to its target from `prior`, with retries, fused with the
   /// prior (or, not fused, the match itself); `prior` when nothing was matched.
   MotionEstimate matchAndFuse(const ProcessedCycle& cycle, const pcl::PointCloud<PointRadar>::Ptr& submap,
@@ -162,6 +177,8 @@ class AutomotiveOdometry {
   ProbabilisticSubmap submap_;  ///< the paper's submap; also integrates the Doppler motion
   LocalMap map_;                ///< CycleToMap's target
   MotionFusion fusion_;
+  std::shared_ptr<const VehicleSignals> signals_;
+  CarFusion car_fusion_;
   MatchCalibration calibration_ = MatchCalibration::WeightedNdt;  ///< how the fusion trusts this matcher's matches
   ConstantVelocityModel motion_model_;
   StepLog log_;

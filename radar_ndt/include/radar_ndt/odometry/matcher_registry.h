@@ -22,6 +22,13 @@ struct MatcherUses {
   bool sweep_times = false;      ///< places each point at its time in the sweep (--compensation joint)
   bool merges_source = false;    ///< merges its source into voxels itself; others get merged scanning points
   bool three_d = false;          ///< matches in 3D (none yet; the pipelines are planar)
+  // What a method needs of the car's own sensors (the car-sensor baselines; CarFusion):
+  bool gyro = false;           ///< the car's gyro (odometry.car.gyro on)
+  bool wheels = false;         ///< the car's wheel speeds (odometry.car.wheels on)
+  bool doppler_fusion = true;  ///< false: the Doppler motion is not fused (the car's own dead reckoning)
+  /// Whether only the automotive pipeline can run it (Doppler, or the car's CAN bus: no scanning
+  /// sequence has either yet).
+  bool automotiveOnly() const { return needs_doppler || gyro || wheels; }
 };
 
 struct MatcherEntry {

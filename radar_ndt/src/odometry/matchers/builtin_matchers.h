@@ -1,6 +1,6 @@
 #pragma once
 // Internal: the built-in matchers, one file each (weighted_ndt.cpp, pcl_ndt.cpp, pcl_icp.cpp,
-// doppler.cpp). The registry adds them, in this order, before its first use.
+// doppler.cpp, car.cpp). The registry adds them, in this order, before its first use.
 
 #include "radar_ndt/odometry/matcher_registry.h"
 
@@ -12,10 +12,12 @@ MatcherEntry pclNdt();
 MatcherEntry pclIcp();
 MatcherEntry doppler();
 MatcherEntry rappNdt();
+MatcherEntry wheelGyro();
+MatcherEntry dopplerGyro();
 
 /// Every built-in matcher, one line each.
 inline std::vector<MatcherEntry> builtins() {
-  return {pwNdt(), pclNdt(), pclIcp(), doppler(), rappNdt()};
+  return {pwNdt(), pclNdt(), pclIcp(), doppler(), rappNdt(), wheelGyro(), dopplerGyro()};
 }
 
 }  // namespace matchers

@@ -70,7 +70,8 @@ double valueOf(const json& message, const std::string& key, int index, const std
 
 }  // namespace
 
-TimeSeries readCanBusSeries(const std::string& file, const std::string& key, int index, std::size_t* dropped) {
+TimeSeries readCanBusSeries(const std::string& file, const std::vector<std::string>& keys, int index,
+                            std::size_t* dropped) {
   json messages;
   try {
     messages = json::parse(nullNonFinite(detail::readWholeFile(file)));
@@ -86,7 +87,8 @@ TimeSeries readCanBusSeries(const std::string& file, const std::string& key, int
     if (t == m.end() || !t->is_number_integer())
       throw IoError(file, "message " + std::to_string(i) + ": 'utime' is missing or not an integer");
     const std::int64_t utime = t->get<std::int64_t>();
-    const double value = valueOf(m, key, index, file, i);
+    double value = 0;
+    for (const std::string& key : keys) value += valueOf(m, key, index, file, i) / static_cast<double>(keys.size());
     if (!series.empty() && utime < series.stamps_us.back())
       throw IoError(file, "message " + std::to_string(i) + ": utime " + std::to_string(utime) +
                               " runs back in time (the one before is " + std::to_string(series.stamps_us.back()) + ")");
@@ -113,21 +115,9 @@ std::optional<VehicleSignals> readNuScenesCanBus(const std::string& dataroot, co
   };
   VehicleSignals s;
   s.source = dir.string();
-  s.yaw_rate = readCanBusSeries(file("ms_imu"), "rotation_rate", 2, &s.dropped);
+  s.yaw_rate = readCanBusSeries(file("ms_imu"), {"rotation_rate"}, 2, &s.dropped);
   const std::string wheels = file("zoe_veh_info");
-  const TimeSeries left = readCanBusSeries(wheels, "RL_wheel_speed", -1, &s.dropped);
-  const TimeSeries right = readCanBusSeries(wheels, "RR_wheel_speed", -1, &s.dropped);
-  // The two wheels come in the same messages: their mean where both are there.
-  for (std::size_t i = 0, j = 0; i < left.size() && j < right.size();) {
-    if (left.stamps_us[i] < right.stamps_us[j]) {
-      ++i;
-    } else if (right.stamps_us[j] < left.stamps_us[i]) {
-      ++j;
-    } else {
-      s.rear_wheel_rpm.stamps_us.push_back(left.stamps_us[i]);
-      s.rear_wheel_rpm.values.push_back(0.5 * (left.values[i++] + right.values[j++]));
-    }
-  }
+  s.rear_wheel_rpm = readCanBusSeries(wheels, {"RL_wheel_speed", "RR_wheel_speed"}, -1, &s.dropped);
   if (s.yaw_rate.empty()) throw IoError(file("ms_imu"), "no message with a yaw rate");
   if (s.rear_wheel_rpm.empty()) throw IoError(wheels, "no message with both rear wheels' speeds");
   return s;

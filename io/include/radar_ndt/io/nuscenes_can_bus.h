@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "radar_ndt/io/vehicle_signals.h"
 #include "radar_ndt/time_series.h"
@@ -24,9 +25,10 @@ namespace radar_ndt {
 /// or a value, holds a value of the wrong type, or runs back in time.
 std::optional<VehicleSignals> readNuScenesCanBus(const std::string& dataroot, const std::string& scene_name);
 
-/// One message file's series: `key` (a number, or element `index` of an array of numbers) against
-/// `utime`. Messages with equal `utime` keep the first. Throws IoError as above.
-TimeSeries readCanBusSeries(const std::string& file, const std::string& key, int index = -1,
+/// One message file's series: the mean of `keys`' values (each a number, or element `index` of
+/// an array of numbers) against `utime`, the file parsed once. A message with any of them missing
+/// (NaN) is left out; messages with equal `utime` keep the first. Throws IoError as above.
+TimeSeries readCanBusSeries(const std::string& file, const std::vector<std::string>& keys, int index = -1,
                             std::size_t* dropped = nullptr);
 
 }  // namespace radar_ndt

@@ -6,7 +6,6 @@
 #include <iostream>
 #include <memory>
 #include <optional>
-#include <type_traits>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
@@ -59,7 +58,7 @@ json finish(const Run& r, const std::string& name, const Outputs& o, std::option
   }
   // Beside the method, its own prior: each step's initial guess judged as its match is.
   const FrameError prior = o.eval ? priorFrameError(r.steps, r.ground_truth) : FrameError{};
-  const char* prior_label = std::is_same_v<Run, ScanningRunResult> ? "constant velocity" : "Doppler ego-motion";
+  const char* prior_label = r.prior.c_str();
   if (!o.json) {
     std::cout << summaryText(r);
     if (report) std::cout << formatTable(*report) << priorText(prior, prior_label);

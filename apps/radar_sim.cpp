@@ -21,7 +21,7 @@ namespace {
 constexpr double kYear2000 = 946684800.0;
 
 struct Args {
-  std::string type = "scanning", layout = "oxford", trajectory, out, realism, realism_png, profile;
+  std::string type = "scanning", layout = "oxford", trajectory, out, realism, realism_png, profile, imu = "none";
   std::int64_t start_stamp = 0;
   bool chirp_flags = false, list = false, markdown = false, quiet = false;
   std::size_t frames = 0, start = 0;
@@ -53,6 +53,9 @@ po::options_description options(Args& a) {
      "each azimuth's ranges by +-beta times the scenery's radial velocity as its chirp does")
     ("chirp-beta", po::value(&a.chirp_beta)->default_value(0.049),
      "with --chirp-flags: the range-Doppler coupling beta (s; m of shift per m/s); 0: flags without shifts")
+    ("imu", po::value(&a.imu)->default_value("none"),
+     "--layout boreas: also write applanix/imu.csv, a gyro of this grade: none | mems (a consumer MEMS gyro) | "
+     "navigation (navigation grade, as Boreas's Applanix); its errors are the imu_* settings (--list-settings)")
     ("period", po::value(&a.period)->default_value(0.25), "s between poses of a trajectory without timestamps (KITTI)")
     ("out", po::value(&a.out), "output directory (created)")
     ("frames", po::value(&a.frames)->default_value(0),
@@ -117,7 +120,13 @@ void writeSequence(const po::variables_map& vm, const Args& a, apps::SimConfig c
     s.range_resolution = boreasRangeResolution(1e-6 * static_cast<double>(seq.start_stamp_us));
     s.bins = s.range_resolution == kBoreasBinBeforeUpgrade ? 3360 : 6848;
     s.range_offset_bins = 0.5;
-    const sim::BoreasLayoutOptions layout{origin.x(), origin.y(), a.chirp_flags, a.chirp_beta};
+    sim::BoreasLayoutOptions layout;
+    layout.enu_east = origin.x();
+    layout.enu_north = origin.y();
+    layout.chirp_flags = a.chirp_flags;
+    layout.chirp_beta = a.chirp_beta;
+    layout.imu = parseEnum<sim::ImuGrade>(a.imu) != sim::ImuGrade::None;
+    layout.imu_options = config.imu;
     summary = sim::writeBoreasSequence(a.out, ego, config.world, s, seq, layout);
   } else {
     summary = a.type == "scanning" ? sim::writeScanningSequence(a.out, ego, config.world, config.scanning, seq)
@@ -138,6 +147,8 @@ void checkArgs(const Args& a) {
   if (a.layout == "boreas" && a.type != "scanning")
     throw std::invalid_argument("--layout boreas is for --type scanning");
   if (a.chirp_flags && a.layout != "boreas") throw std::invalid_argument("--chirp-flags is for --layout boreas");
+  if (parseEnum<sim::ImuGrade>(a.imu) != sim::ImuGrade::None && a.layout != "boreas")
+    throw std::invalid_argument("--imu is for --layout boreas (the only scanning layout with an IMU file)");
 }
 
 int run(const po::variables_map& vm, const Args& a) {
@@ -152,6 +163,7 @@ int run(const po::variables_map& vm, const Args& a) {
   apps::SimConfig config;
   config.world.seed = a.seed;
   if (a.type == "scanning" || !a.realism.empty()) sim::applyProfile(profile, config.world, config.scanning);
+  config.imu = sim::imuPreset(parseEnum<sim::ImuGrade>(a.imu));
   for (const std::string& s : a.sets) apps::applySetting(s, config);
   if (a.list) {
     if (a.markdown) {
@@ -202,7 +214,8 @@ int main(int argc, char** argv) {
       "[--realism-png out.png]\n"
       "Scanning: DIR/radar/<stamp>.png, DIR/radar.timestamps, DIR/gt/radar_odometry.csv (Oxford conventions)\n"
       "and DIR/gt/poses.txt (KITTI, first pose identity); --layout boreas: DIR/radar/<stamp>.png,\n"
-      "DIR/applanix/radar_poses.csv (Boreas conventions) and DIR/gt/poses.txt. Automotive: a nuScenes dataroot, tables "
+      "DIR/applanix/radar_poses.csv (Boreas conventions), with --imu DIR/applanix/imu.csv, and DIR/gt/poses.txt. "
+      "Automotive: a nuScenes dataroot, tables "
       "in\n"
       "DIR/v1.0-sim, five ARS408 radars at nuScenes' mountings. Settings: --list-settings, docs/simulator.md.";
   po::variables_map vm;

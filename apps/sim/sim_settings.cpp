@@ -37,7 +37,8 @@ const std::vector<Group>& groups() {
   static const std::vector<Group> all = [] {
     std::vector<Group> g{{"world", numericFields(&SimConfig::world)},
                          {"scanning", numericFields(&SimConfig::scanning)},
-                         {"automotive", numericFields(&SimConfig::automotive)}};
+                         {"automotive", numericFields(&SimConfig::automotive)},
+                         {"imu", numericFields(&SimConfig::imu)}};
     std::set<std::string> names;
     for (const auto& group : g)
       for (const auto& s : group.settings)

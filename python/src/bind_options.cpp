@@ -107,6 +107,7 @@ void bindScanningOptions(py::module_& m) {
   bindOptions<MotionCompensationOptions>(m, "MotionCompensationOptions", "radar_ndt/odometry/motion_compensation.h");
   bindOptions<KeyframeOptions>(m, "KeyframeOptions", "radar_ndt/odometry/keyframe_policy.h");
   bindOptions<FitCheckOptions>(m, "FitCheckOptions", "radar_ndt/odometry/fit_history.h");
+  bindOptions<GyroOptions>(m, "GyroOptions", "radar_ndt/odometry/gyro_yaw.h");
   bindOptions<ScanningOdometryOptions>(m, "ScanningOdometryOptions", "radar_ndt/odometry/scanning_odometry.h");
   bindOptions<ScanningRunOptions>(m, "ScanningRunOptions", "radar_ndt/pipeline/scanning_run.h");
 }

@@ -58,6 +58,8 @@ void bindRunResult(py::class_<Result>& c) {
       .def_readonly("ground_truth", &Result::ground_truth, "the dataset's, relative to the first pose; may be empty")
       .def_readonly("steps", &Result::steps)
       .def_readonly("problems", &Result::problems)
+      .def_readonly("prior", &Result::prior,
+                    "what each step's initial guess came from (constant velocity, Doppler, gyro, ...)")
       .def_readonly("period", &Result::period_s)
       .def_readonly("median_total_ms", &Result::median_total_ms)
       .def_readonly("method", &Result::method)

@@ -173,3 +173,16 @@ def test_the_cars_sensors_through_run_automotive(work):
         app("radar_odometry", "--format", "nuscenes", "--dataroot", NUSCENES, "--scene", SCENE, "--method", method,
             *flags, "--max-cycles", "60", "--out", theirs, "-q")
         assert ours.read_bytes() == theirs.read_bytes(), method
+
+
+def test_the_scanning_gyro_through_run_scanning(work):
+    """A simulated Boreas drive with a gyro: run_scanning with the gyro on equals radar_odometry --imu."""
+    seq = work / "boreas-gyro"
+    app("radar_sim", "--layout", "boreas", "--frames", "12", "--start", "80", "--imu", "navigation", "--out", seq,
+        "-q")
+    run = radar_ndt.run_scanning(str(seq), format="boreas", threads=1, odometry={"gyro": {"enabled": True}})
+    assert run.prior == "constant velocity, gyro yaw"
+    ours, theirs = work / "gyro.py.tum", work / "gyro.app.tum"
+    radar_ndt.write_trajectory(str(ours), run.estimate, "tum")
+    app("radar_odometry", "--format", "boreas", "--sequence", seq, "--imu", "--threads", "1", "--out", theirs, "-q")
+    assert ours.read_bytes() == theirs.read_bytes()

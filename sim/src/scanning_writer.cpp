@@ -11,6 +11,7 @@
 
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/boreas_ground_truth.h"
+#include "radar_ndt/io/boreas_imu.h"
 #include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/oxford_ground_truth.h"
@@ -189,6 +190,14 @@ SequenceSummary writeBoreasSequence(const std::string& dir, const SimTrajectory&
   }
   writer.finish();
   writeBoreasPoses((fs::path(dir) / "applanix" / "radar_poses.csv").string(), poses);
+  if (layout.imu) {
+    // The gyro from a second before the first sweep starts to a second after the last ends.
+    const double t_first = t0 - lead, t_last = ego.stamps()[sequence.start + frames - 1] + options.sweep_period;
+    const double t_begin = std::max(ego.startTime(), t_first - 1.0), t_end = std::min(ego.endTime(), t_last + 1.0);
+    writeBoreasImu(
+        (fs::path(dir) / "applanix" / "imu.csv").string(),
+        simulateImu(ego, t_begin, t_end, t0, sequence.start_stamp_us, layout.imu_options, world_options.seed));
+  }
   writeFileAtomically((fs::path(dir) / "gt" / "poses.txt").string(), truth.poses.str());
 
   return detail::summarize(ego, t0, frames, ego.stamps()[sequence.start + frames - 1] - t0, wall);

@@ -328,7 +328,10 @@ TEST(BoreasSimLayout, ScansAreNamedByTheirMiddleRowAndPosedThere) {
   seq.start = 20;
   seq.frames = 3;
   seq.start_stamp_us = 1628185286000000;
-  sim::writeBoreasSequence(dir, ego, world, scanning, seq, sim::BoreasLayoutOptions{1000.0, 2000.0, false});
+  sim::BoreasLayoutOptions layout;
+  layout.enu_east = 1000.0;
+  layout.enu_north = 2000.0;
+  sim::writeBoreasSequence(dir, ego, world, scanning, seq, layout);
   const ScanningSequence s(dir, ScanFormat::Boreas);
   ASSERT_EQ(s.size(), 3u);
   ASSERT_TRUE(s.hasGroundTruth());

@@ -22,6 +22,7 @@ ScanningOdometry::ScanningOdometry(const ScanningOdometryOptions& options, Match
       gate_(options.gate),
       keyframes_(options.keyframes),
       fits_(options.fit),
+      gyro_(options.gyro),
       compensated_(new pcl::PointCloud<PointRadar>) {
   options_.validate();
   if (options_.compensation.enabled && options_.compensation.mode == CompensationMode::Joint && matcher_ &&
@@ -41,6 +42,7 @@ const OdometryStep& ScanningOdometry::addScan(const ScanFrame& scan) {
 
   const double dt = 1e-6 * static_cast<double>(scan.timestamp_us - prev->timestamp_us);
   step.prior_motion = motion_model_.predict(dt);  // constant velocity
+  if (usesGyro()) gyroPrior(prev->timestamp_us, scan.timestamp_us, dt, step);
   step.target_points = target_.size();
   Pose2 motion = step.prior_motion;
   const auto t0 = detail::Clock::now();
@@ -56,6 +58,12 @@ const OdometryStep& ScanningOdometry::addScan(const ScanFrame& scan) {
   motion_model_.update(motion, dt);
   updateKeyframe(scan, step, dt);
   return log_.add(step);
+}
+
+void ScanningOdometry::gyroPrior(std::int64_t t0_us, std::int64_t t1_us, double dt, OdometryStep& step) {
+  // The translation stays the constant-velocity one; the yaw is the gyro's, bias removed.
+  const auto offset = static_cast<std::int64_t>(std::llround(options_.gyro.time_offset * 1e6));
+  step.prior_motion.z() = gyro_.predict(yaw_rate_.integral(t0_us + offset, t1_us + offset), dt);
 }
 
 const OdometryStep& ScanningOdometry::addFirstScan(const ScanFrame& scan, OdometryStep& step) {
@@ -81,12 +89,19 @@ Pose2 ScanningOdometry::matchWithFailureHandling(const ScanFrame& scan, const Od
   a.prev_in_keyframe = a.target_is_previous ? Pose2::Zero() : between(keyframes_.pose(), prev.pose);
   a.dt = dt;
   a.mid_time = 1e-6 * static_cast<double>(prev.timestamp_us) + 0.5 * dt;
+  // With a gyro, the sweep turns at its (bias-corrected) mean rate over the interval.
+  a.yaw_rate = usesGyro() && options_.gyro.deskew && dt > 0 ? step.prior_motion.z() / dt
+                                                            : std::numeric_limits<double>::quiet_NaN();
   Pose2 guess = step.prior_motion;
   if (!motion_model_.hasVelocity() && !o.start_hypotheses.empty())
     step.prior_motion = guess = bestStartHypothesis(scan, guess);
 
   Pose2 motion;
   if (runRetryLadder(a, guess, g0, step, &motion)) {
+    if (usesGyro()) {
+      step.match_motion = motion;             // recorded before the fusion
+      motion.z() = gyro_.update(motion.z());  // the match's yaw fused with the gyro's
+    }
     gate_.trust(motion, dt, a.mid_time);
     step.status = step.attempts == 1 ? StepStatus::Matched : StepStatus::Retried;
   } else {
@@ -112,7 +127,7 @@ Pose2 ScanningOdometry::bestStartHypothesis(const ScanFrame& scan, const Pose2& 
   *compensated_ = *scan.cloud;  // the matcher keeps its source: this copy, not the caller's
   matcher.setInputSource(compensated_);
   for (const double h : options_.start_hypotheses) {
-    matcher.align(aligned_, toMatrix4<float>(Pose2(h, 0, 0)));
+    matcher.align(aligned_, toMatrix4<float>(Pose2(h, 0, guess.z())));  // the guess's yaw: the gyro's, or 0
     if (!matcher.hasConverged()) continue;
     const Pose2 e = toPose2(matcher.getFinalTransformation());
     const double score = matcher_.score();
@@ -195,6 +210,8 @@ bool ScanningOdometry::matchScan(const Attempt& a, const Pose2& guess, Pose2* es
   const int max_rounds = compensate ? std::max(1, c.max_rounds) : 1;
   Pose2 est = guess;  // the motion from the previous scan
   Eigen::Vector3d v = compensate ? velocityOf(guess, a.dt) : Eigen::Vector3d::Zero();
+  const bool gyro_rate = compensate && std::isfinite(a.yaw_rate);
+  if (gyro_rate) v.z() = a.yaw_rate;
   target_.restore(matcher);  // a previous attempt's re-compensated target: back to this step's own
   // Joint: the source as given, its points placed inside the match by the motion being estimated
   // (from the previous scan, at prev_in_keyframe, over dt); only the target is compensated here.
@@ -231,7 +248,8 @@ bool ScanningOdometry::matchScan(const Attempt& a, const Pose2& guess, Pose2* es
     est = between(a.prev_in_keyframe, toPose2(matcher.getFinalTransformation()));
     if (!est.allFinite()) return false;
     if (!compensate) break;
-    const Eigen::Vector3d v_new = velocityOf(est, a.dt);
+    Eigen::Vector3d v_new = velocityOf(est, a.dt);
+    if (gyro_rate) v_new.z() = a.yaw_rate;  // the measured rotation, not the match's
     // Another round only when the velocity moved by more than the tolerance (yaw rate scaled by
     // 10 m, a typical point range: the displacement it causes there). Smaller changes are within
     // a single match's noise and chasing them adds nothing.

@@ -141,6 +141,13 @@ std::shared_ptr<const VehicleSignals> vehicleSignals(const NuScenesDataset& data
   return nullptr;
 }
 
+/// What the guesses come from when the car's sensors make them.
+std::string carPriorName(const CarSensorOptions& car) {
+  return car.gyro && car.wheels ? "the car's gyro and wheels"
+         : car.gyro             ? "the car's gyro, Doppler translation"
+                                : "the car's wheels, Doppler yaw";
+}
+
 /// A cycle a matcher could not match for too few points, as a problem naming it; "" otherwise.
 std::string problemOf(const OdometryStep& step, const AutomotiveOdometryOptions& options) {
   if (step.status != StepStatus::DeadReckoned || !step.too_few_points) return "";
@@ -167,6 +174,7 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
   result.submap_size = options.odometry.submap_size;
   result.reference_channel = sequence.referenceChannel();
   result.period_s = sequence.periodSeconds();
+  if (odometry.usesCar()) result.prior = carPriorName(options.odometry.car);
   result.problems = sequence.silences();
   result.problems.insert(result.problems.begin(), car_problems.begin(), car_problems.end());
   const std::size_t n = options.max_cycles > 0 ? std::min(options.max_cycles, sequence.size()) : sequence.size();

@@ -1,4 +1,5 @@
 #include "radar_ndt/pipeline/scanning_run.h"
+#include "radar_ndt/io/boreas_imu.h"
 #include "radar_ndt/io/io_error.h"
 
 #include <algorithm>
@@ -57,12 +58,31 @@ ScanningRunResult startResult(const ScanningSequence& sequence, const ScanningRu
   return result;
 }
 
+/// The sequence's gyro for `odometry` (Boreas: applanix/imu.csv); a sequence without one is run
+/// without it, and the problems say so once.
+void attachGyro(const ScanningSequence& sequence, ScanningOdometry& odometry, std::vector<std::string>& problems) {
+  if (sequence.format() != ScanFormat::Boreas) {
+    problems.push_back(std::string("--imu: the ") + toString(sequence.format()) +
+                       " layout has no gyro file (boreas: applanix/imu.csv): the run goes on without a gyro");
+    return;
+  }
+  std::optional<VehicleSignals> imu = readBoreasImu(sequence.directory());
+  if (!imu) {
+    problems.push_back(sequence.directory() + "/applanix/imu.csv: missing: the run goes on without a gyro");
+    return;
+  }
+  const std::int64_t first = sequence.stamp(0), last = sequence.stamp(sequence.size() - 1);
+  if (!imu->yaw_rate.covers(first, last))
+    problems.push_back(imu->source + ": the gyro does not cover every scan's time (its ends are held beyond it)");
+  odometry.setYawRate(std::move(imu->yaw_rate));
+}
+
 /// A step no match was made for, as a problem naming the scan's file and why; "" for the others.
-std::string problemOf(const OdometryStep& step, const ScanningOdometryOptions& options) {
+std::string problemOf(const OdometryStep& step, const ScanningOdometryOptions& options, const std::string& prior) {
   if (step.status == StepStatus::DeadReckoned && step.too_few_points)
     return "too few points to match (" + std::to_string(step.source_points) + " in the scan, " +
            std::to_string(step.target_points) + " in its keyframe; at least " + std::to_string(options.min_points) +
-           " each): constant-velocity motion";
+           " each): " + prior;
   if (step.status != StepStatus::Fallback) return "";
   std::string why;
   auto add = [&why](int n, const char* what) {
@@ -71,7 +91,7 @@ std::string problemOf(const OdometryStep& step, const ScanningOdometryOptions& o
   add(step.attempts_poor_fit, "fitting far worse than recent scans");
   add(step.attempts_rejected, "refused by the motion prior");
   add(step.attempts_not_converged, "not converged");
-  return "no match passed (" + (why.empty() ? std::string("no power weights") : why) + "): constant-velocity motion";
+  return "no match passed (" + (why.empty() ? std::string("no power weights") : why) + "): " + prior;
 }
 
 /// The sequence's ground truth from the estimate's first stamp to its last, re-based so that the
@@ -133,6 +153,9 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
   const std::size_t n = end - options.start;
   ScanningOdometry odometry(options.odometry, makeMatcher(options.matcher));
   ScanningRunResult result = startResult(sequence, options);
+  if (options.odometry.gyro.enabled) attachGyro(sequence, odometry, result.problems);
+  if (odometry.usesGyro()) result.prior = "constant velocity, gyro yaw";
+  const std::string fallback = odometry.usesGyro() ? "the prior (" + result.prior + ")" : "constant-velocity motion";
   ScanSamples samples;
   const auto wall0 = Clock::now();
   // A matcher that merges its source itself gets the full scans; the others merged points.
@@ -149,7 +172,7 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
           odometry.bridge(sequence.stamp(k));
         } else {
           const OdometryStep& step = odometry.addScan(ScanFrame{sequence.stamp(k), p.cloud});
-          const std::string problem = problemOf(step, options.odometry);
+          const std::string problem = problemOf(step, options.odometry, fallback);
           if (!problem.empty())
             result.problems.push_back("scan " + std::to_string(k) + ": " + sequence.path(k) + ": " + problem);
           samples.add(p, step);

@@ -69,6 +69,7 @@ class ScanningSequence {
   /// Median interval between scans (s).
   double periodSeconds() const { return period_s_; }
   const std::string& name() const { return name_; }
+  const std::string& directory() const { return dir_; }
   ScanFormat format() const { return format_; }
   bool hasGroundTruth() const { return !ground_truth_.empty(); }
   /// SE(2) ground truth in the vehicle frame (x forward, y left), seconds; the first pose is the

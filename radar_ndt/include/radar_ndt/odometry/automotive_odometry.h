@@ -126,6 +126,8 @@ class AutomotiveOdometry {
   /// The car's own sensors over the recording, on the radar's clock plus options().car.time_offset;
   /// options().car says which of them are fused (CarFusion). Null: the Doppler prior alone.
   void setVehicleSignals(std::shared_ptr<const VehicleSignals> signals) { signals_ = std::move(signals); }
+  /// Whether the car's sensors make the prior (CarFusion).
+  bool usesCar() const { return signals_ && options_.car.any(); }
 
   const std::vector<OdometryStep>& steps() const { return log_.steps(); }
   const OdometryCounters& counters() const { return log_.counters(); }
@@ -145,8 +147,6 @@ class AutomotiveOdometry {
                                     const pcl::PointCloud<PointRadar>::Ptr& submap, OdometryStep& step);
   /// The Doppler motion of the cycle, fused: the bias-corrected prediction (the match's guess).
   MotionEstimate dopplerPrior(double dt, OdometryStep& step);
-  /// Whether the car's sensors make the prior (CarFusion).
-  bool usesCar() const { return signals_ && options_.car.any(); }
   /// What the car's sensors measured from t0 to t1 (radar clock).
   CarMotion carMotion(std::int64_t t0_us, std::int64_t t1_us) const;
   /// The prior from the car's sensors and the Doppler motion (CarFusion::predict).

@@ -16,6 +16,7 @@
 #include "radar_ndt/fields.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/odometry/fit_history.h"
+#include "radar_ndt/odometry/gyro_yaw.h"
 #include "radar_ndt/odometry/keyframe_policy.h"
 #include "radar_ndt/odometry/keyframe_target.h"
 #include "radar_ndt/odometry/matcher.h"
@@ -25,6 +26,7 @@
 #include "radar_ndt/odometry/odometry_step.h"
 #include "radar_ndt/point_types.h"
 #include "radar_ndt/se2.h"
+#include "radar_ndt/time_series.h"
 
 namespace radar_ndt {
 
@@ -47,6 +49,8 @@ struct ScanningOdometryOptions {
   /// Judged at the nominal grid and power shift (WeightedNDT2D only). A candidate found by the retry ladder
   /// is refined at the nominal settings and judged there.
   FitCheckOptions fit;
+  /// A yaw-rate gyro (gyro_yaw.h), used once setYawRate gave its signal.
+  GyroOptions gyro;
   /// Throws std::invalid_argument naming the first setting out of range.
   void validate() const;
   /// The field table (radar_ndt/fields.h).
@@ -70,6 +74,7 @@ void ScanningOdometryOptions::fields(Visit&& visit) {
         Field("start_hypotheses", "the second scan is matched from each of these forward displacements").unit("m"));
   visit(&S::keyframes, Field("keyframes", "when the keyframe is replaced"));
   visit(&S::fit, Field("fit", "the fit check against recent matches"));
+  visit(&S::gyro, Field("gyro", "a yaw-rate gyro's rotation as prior, de-skew and measurement"));
 }
 
 /// One thresholded scan: points in the vehicle frame, each with its time_offset (s) from
@@ -92,6 +97,13 @@ class ScanningOdometry {
   /// whose pose continues the last step at its velocity. Matching state is untouched, so the next
   /// scan is matched against the keyframe across the gap.
   const OdometryStep& bridge(std::int64_t timestamp_us) { return log_.bridge(timestamp_us, motion_model_); }
+  /// The gyro's yaw rate (rad/s, counter-clockwise positive, on its own clock: options.gyro's
+  /// time_offset), used from the next scan on when options.gyro.enabled.
+  void setYawRate(TimeSeries yaw_rate) { yaw_rate_ = std::move(yaw_rate); }
+  /// Whether the steps use a gyro.
+  bool usesGyro() const { return options_.gyro.enabled && !yaw_rate_.empty(); }
+  /// The gyro's bias as estimated so far (rad/s).
+  double gyroBias() const { return gyro_.bias(); }
 
   const std::vector<OdometryStep>& steps() const { return log_.steps(); }
   const OdometryCounters& counters() const { return log_.counters(); }
@@ -109,6 +121,7 @@ class ScanningOdometry {
     Pose2 prev_in_keyframe;                  ///< the previous scan's pose in the keyframe's frame
     bool target_is_previous;                 ///< the keyframe is the previous scan
     double dt, mid_time;                     ///< the interval (s) and its middle (s)
+    double yaw_rate;                         ///< rad/s the sweep is de-skewed with (NaN: the match's)
   };
 
   const OdometryStep& addFirstScan(const ScanFrame& scan, OdometryStep& step);
@@ -132,6 +145,8 @@ class ScanningOdometry {
   bool matchScan(const Attempt& a, const Pose2& guess, Pose2* estimate, int* rounds);
   /// The scan as the next target, or the first scan compensated once a velocity is known.
   void updateKeyframe(const ScanFrame& scan, OdometryStep& step, double dt);
+  /// The gyro's yaw over [t0, t1] as the prior's yaw (usesGyro()).
+  void gyroPrior(std::int64_t t0_us, std::int64_t t1_us, double dt, OdometryStep& step);
 
   ScanningOdometryOptions options_;
   MatcherAdapter matcher_;
@@ -141,6 +156,8 @@ class ScanningOdometry {
   FitHistory fits_;
   ConstantVelocityModel motion_model_;
   StepLog log_;
+  TimeSeries yaw_rate_;  ///< the gyro's, when given
+  GyroYaw gyro_;
   pcl::PointCloud<PointRadar>::Ptr compensated_;  ///< scratch: the source of the last attempt
   pcl::PointCloud<PointRadar> aligned_;           ///< scratch: the matcher's output (unused; kept to reuse its memory)
 };

@@ -59,6 +59,7 @@ struct AutomotiveRunResult {
   std::size_t submap_size = 0;  ///< N
   std::string reference_channel;
   double period_s = 0;
+  std::string prior = "Doppler ego-motion";  ///< what each step's initial guess came from
   Trajectory estimate;
   Trajectory ground_truth;  ///< SE(2), relative to the first cycle
   std::vector<OdometryStep> steps;

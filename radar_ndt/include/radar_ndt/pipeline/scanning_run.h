@@ -91,12 +91,13 @@ struct ScanningRunResult {
   Trajectory ground_truth;  ///< the sequence's, re-based so the first scan used is identity; may be empty
   std::vector<OdometryStep> steps;
   OdometryCounters counters;
-  StageTimes median_ms;         ///< per scan: read = PNG decode, front_end = threshold, match (submap: 0)
-  double median_total_ms = 0;   ///< median of per-scan decode + threshold + match (one core)
-  double wall_s = 0;            ///< the whole run, wall clock
-  double scans_per_second = 0;  ///< end to end, on `threads` threads
-  double median_points = 0;     ///< thresholded points per scan
-  int threads = 1;              ///< threads the run used
+  StageTimes median_ms;                     ///< per scan: read = PNG decode, front_end = threshold, match (submap: 0)
+  double median_total_ms = 0;               ///< median of per-scan decode + threshold + match (one core)
+  double wall_s = 0;                        ///< the whole run, wall clock
+  double scans_per_second = 0;              ///< end to end, on `threads` threads
+  double median_points = 0;                 ///< thresholded points per scan
+  int threads = 1;                          ///< threads the run used
+  std::string prior = "constant velocity";  ///< what each step's initial guess came from
   /// Index lines left out, scans that could not be read or have no noise floor (a dead sensor;
   /// bridged), and scans no match passed for (constant-velocity motion), each naming its file and
   /// the reason.

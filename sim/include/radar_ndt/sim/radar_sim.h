@@ -18,6 +18,7 @@
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/se2.h"
+#include "radar_ndt/sim/imu_model.h"
 #include "radar_ndt/sim/sim_options.h"
 
 namespace radar_ndt {
@@ -194,6 +195,10 @@ struct BoreasLayoutOptions {
   /// (β = carrier frequency / chirp slope). The simulator's scatterers are static, so v_r is the
   /// sensor's own velocity along the beam, negated. 0: no shift.
   double chirp_beta = 0.049;
+  /// Write applanix/imu.csv: a gyro with these errors (imu_model.h) from a second before the first
+  /// sweep to a second after the last (within the trajectory).
+  bool imu = false;
+  ImuOptions imu_options;
 };
 
 /// Shifts each azimuth of `scan` by ±β·v_r as its chirp type says (BoreasLayoutOptions), v_r the
@@ -205,8 +210,9 @@ void applyChirpShift(PolarScan& scan, const SimTrajectory& ego, double t0, std::
 /// named by its row 199's timestamp (floor(M / 2) − 1: the sweep's middle, which is at trajectory
 /// pose `start + k`), and applanix/radar_poses.csv, the radar's pose at each scan in the dataset's
 /// frames and units (ENU; the radar's x forward, y right, z down, roll π; GPSTime in ns), with
-/// gt/poses.txt (KITTI, vehicle frame, first pose identity) as for Oxford. `options` gives the bins
-/// (the reader decides their size by the scan's date, so it must match `sequence.start_stamp_us`).
+/// applanix/imu.csv when `layout.imu`, and gt/poses.txt (KITTI, vehicle frame, first pose identity) as for Oxford.
+/// `options` gives the bins (the reader decides their size by the scan's date, so it must match
+/// `sequence.start_stamp_us`).
 SequenceSummary writeBoreasSequence(const std::string& dir, const SimTrajectory& ego, const WorldOptions& world,
                                     const ScanningOptions& options, const SequenceOptions& sequence,
                                     const BoreasLayoutOptions& layout);

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <set>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
@@ -48,7 +49,11 @@ struct Outputs {
 /// gets the metrics when evaluating.
 template <typename Run>
 json finish(const Run& r, const std::string& name, const Outputs& o, std::optional<EvaluationReport>& report) {
-  for (const auto& p : r.problems) pcl::console::print_warn("%s: %s\n", name.c_str(), p.c_str());
+  // A problem of the whole dataset (its can_bus/ folder missing) comes with every scene's run in
+  // the same words: said once.
+  static std::set<std::string> said;
+  for (const auto& p : r.problems)
+    if (said.insert(p).second) pcl::console::print_warn("%s: %s\n", name.c_str(), p.c_str());
   if (!o.out.empty()) writeTrajectory(o.fileFor(o.out, name), r.estimate, parseTrajectoryFormat(o.out_format));
   if (!o.steps.empty()) writeFileAtomically(o.fileFor(o.steps, name), stepsCsv(r));
   if (o.eval) {

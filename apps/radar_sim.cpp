@@ -7,6 +7,7 @@
 
 #include "app_common.h"
 #include "radar_ndt/io/boreas_scan.h"
+#include "radar_ndt/io/nuscenes_can_bus.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/sim/radar_sim.h"
 #include "sim/realism.h"
@@ -54,8 +55,10 @@ po::options_description options(Args& a) {
     ("chirp-beta", po::value(&a.chirp_beta)->default_value(0.049),
      "with --chirp-flags: the range-Doppler coupling beta (s; m of shift per m/s); 0: flags without shifts")
     ("imu", po::value(&a.imu)->default_value("none"),
-     "--layout boreas: also write applanix/imu.csv, a gyro of this grade: none | mems (a consumer MEMS gyro) | "
-     "navigation (navigation grade, as Boreas's Applanix); its errors are the imu_* settings (--list-settings)")
+     "also write a gyro of this grade: none | mems (a consumer MEMS gyro) | navigation (navigation grade, as "
+     "Boreas's Applanix); --layout boreas: applanix/imu.csv; --type automotive: the CAN bus as nuScenes' "
+     "(can_bus/<scene>_ms_imu.json, 100 Hz, and the wheel speeds, <scene>_zoe_veh_info.json); its errors are the "
+     "imu_* and wheel_* settings (--list-settings)")
     ("period", po::value(&a.period)->default_value(0.25), "s between poses of a trajectory without timestamps (KITTI)")
     ("out", po::value(&a.out), "output directory (created)")
     ("frames", po::value(&a.frames)->default_value(0),
@@ -131,6 +134,16 @@ void writeSequence(const po::variables_map& vm, const Args& a, apps::SimConfig c
   } else {
     summary = a.type == "scanning" ? sim::writeScanningSequence(a.out, ego, config.world, config.scanning, seq)
                                    : sim::writeAutomotiveSequence(a.out, ego, config.world, config.automotive, seq);
+    if (a.type == "automotive" && parseEnum<sim::ImuGrade>(a.imu) != sim::ImuGrade::None) {
+      // The car's CAN bus, from a second before the first sweep to a second after the last.
+      const double t0 = ego.stamps()[seq.start];
+      std::vector<CanImuMessage> imu;
+      std::vector<CanWheelMessage> wheels;
+      sim::simulateCanBus(ego, std::max(ego.startTime(), t0 - 1.0),
+                          std::min(ego.endTime(), t0 + summary.duration + 1.0), t0, seq.start_stamp_us, config.imu,
+                          config.wheels, config.world.seed, imu, wheels);
+      writeNuScenesCanBus(a.out, seq.scene_name, imu, wheels);
+    }
   }
   std::printf("radar_sim: %s, %zu %s over %.1f s and %.2f km along %s, seed %llu -> %s (%.1f s, %.1f frames/s)\n",
               a.type.c_str(), summary.frames, a.type == "scanning" ? "scans" : "front-radar sweeps", summary.duration,
@@ -147,8 +160,9 @@ void checkArgs(const Args& a) {
   if (a.layout == "boreas" && a.type != "scanning")
     throw std::invalid_argument("--layout boreas is for --type scanning");
   if (a.chirp_flags && a.layout != "boreas") throw std::invalid_argument("--chirp-flags is for --layout boreas");
-  if (parseEnum<sim::ImuGrade>(a.imu) != sim::ImuGrade::None && a.layout != "boreas")
-    throw std::invalid_argument("--imu is for --layout boreas (the only scanning layout with an IMU file)");
+  if (parseEnum<sim::ImuGrade>(a.imu) != sim::ImuGrade::None && a.type == "scanning" && a.layout != "boreas")
+    throw std::invalid_argument(
+        "--imu is for --layout boreas (the only scanning layout with an IMU file) or --type automotive");
 }
 
 int run(const po::variables_map& vm, const Args& a) {
@@ -164,6 +178,7 @@ int run(const po::variables_map& vm, const Args& a) {
   config.world.seed = a.seed;
   if (a.type == "scanning" || !a.realism.empty()) sim::applyProfile(profile, config.world, config.scanning);
   config.imu = sim::imuPreset(parseEnum<sim::ImuGrade>(a.imu));
+  if (a.type == "automotive") config.imu.rate = 100.0;  // nuScenes' ms_imu
   for (const std::string& s : a.sets) apps::applySetting(s, config);
   if (a.list) {
     if (a.markdown) {
@@ -217,7 +232,8 @@ int main(int argc, char** argv) {
       "DIR/applanix/radar_poses.csv (Boreas conventions), with --imu DIR/applanix/imu.csv, and DIR/gt/poses.txt. "
       "Automotive: a nuScenes dataroot, tables "
       "in\n"
-      "DIR/v1.0-sim, five ARS408 radars at nuScenes' mountings. Settings: --list-settings, docs/simulator.md.";
+      "DIR/v1.0-sim, five ARS408 radars at nuScenes' mountings; with --imu DIR/can_bus/. Settings: --list-settings, "
+      "docs/simulator.md.";
   po::variables_map vm;
   const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
   if (rc >= 0) return rc;

@@ -38,7 +38,8 @@ const std::vector<Group>& groups() {
     std::vector<Group> g{{"world", numericFields(&SimConfig::world)},
                          {"scanning", numericFields(&SimConfig::scanning)},
                          {"automotive", numericFields(&SimConfig::automotive)},
-                         {"imu", numericFields(&SimConfig::imu)}};
+                         {"imu", numericFields(&SimConfig::imu)},
+                         {"wheels", numericFields(&SimConfig::wheels)}};
     std::set<std::string> names;
     for (const auto& group : g)
       for (const auto& s : group.settings)

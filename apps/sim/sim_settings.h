@@ -1,6 +1,7 @@
 #pragma once
 // radar_sim's settings: every number of the simulator's world, scanning sensor, automotive
-// sensor and gyro, by name (`--set name=value`, `--list-settings`), read from their field tables
+// sensor, gyro and
+// wheel speeds, by name (`--set name=value`, `--list-settings`), read from their field tables
 // (radar_ndt/sim/radar_sim.h). A name two tables share is given a distinct one there.
 
 #include <string>
@@ -16,7 +17,8 @@ struct SimConfig {
   sim::WorldOptions world;
   sim::ScanningOptions scanning;
   sim::AutomotiveOptions automotive;
-  sim::ImuOptions imu;  ///< the gyro's errors (--imu picks a preset; --layout boreas writes it)
+  sim::ImuOptions imu;       ///< the gyro's errors (--imu picks a preset)
+  sim::WheelOptions wheels;  ///< the wheel speeds' (automotive, with --imu)
 };
 
 /// Sets `assignment` ("name=value") on `config`; std::invalid_argument naming the setting or the

@@ -3,9 +3,11 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/io_error.h"
 #include "read_file.h"
 
@@ -121,6 +123,43 @@ std::optional<VehicleSignals> readNuScenesCanBus(const std::string& dataroot, co
   if (s.yaw_rate.empty()) throw IoError(file("ms_imu"), "no message with a yaw rate");
   if (s.rear_wheel_rpm.empty()) throw IoError(wheels, "no message with both rear wheels' speeds");
   return s;
+}
+
+void writeNuScenesCanBus(const std::string& dataroot, const std::string& scene_name,
+                         const std::vector<CanImuMessage>& imu, const std::vector<CanWheelMessage>& wheels) {
+  const fs::path dir = fs::path(dataroot) / "can_bus";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw IoError(dir.string(), "cannot create: " + ec.message());
+  const auto vec = [](std::ostringstream& s, const char* key, const double* v, int n) {
+    s << ", \"" << key << "\": [";
+    for (int i = 0; i < n; ++i) s << (i ? ", " : "") << v[i];
+    s << ']';
+  };
+  std::ostringstream a;
+  a.precision(17);
+  a << '[';
+  for (std::size_t i = 0; i < imu.size(); ++i) {
+    const CanImuMessage& m = imu[i];
+    a << (i ? ",\n " : "") << "{\"utime\": " << m.utime;
+    vec(a, "rotation_rate", m.rotation_rate.data(), 3);
+    vec(a, "linear_accel", m.linear_accel.data(), 3);
+    vec(a, "q", m.q.data(), 4);
+    a << '}';
+  }
+  a << "]\n";
+  writeFileAtomically((dir / (scene_name + "_ms_imu.json")).string(), a.str());
+  std::ostringstream w;
+  w.precision(17);
+  w << '[';
+  for (std::size_t i = 0; i < wheels.size(); ++i) {
+    const CanWheelMessage& m = wheels[i];
+    w << (i ? ",\n " : "") << "{\"utime\": " << m.utime << ", \"FL_wheel_speed\": " << m.fl
+      << ", \"FR_wheel_speed\": " << m.fr << ", \"RL_wheel_speed\": " << m.rl << ", \"RR_wheel_speed\": " << m.rr
+      << '}';
+  }
+  w << "]\n";
+  writeFileAtomically((dir / (scene_name + "_zoe_veh_info.json")).string(), w.str());
 }
 
 }  // namespace radar_ndt

@@ -13,6 +13,10 @@ void ImuOptions::validate() const {
   checkFields(*this, "ImuOptions");
 }
 
+void WheelOptions::validate() const {
+  checkFields(*this, "WheelOptions");
+}
+
 ImuOptions imuPreset(ImuGrade grade) {
   constexpr double kDeg = kPi / 180.0, kHour = 3600.0;
   ImuOptions o;
@@ -66,6 +70,41 @@ std::vector<BoreasImuRow> simulateImu(const SimTrajectory& ego, double t_begin, 
     bias += walk * normal(rng);
   }
   return rows;
+}
+
+void simulateCanBus(const SimTrajectory& ego, double t_begin, double t_end, double t0, std::int64_t stamp0_us,
+                    const ImuOptions& imu, const WheelOptions& wheels, std::uint64_t seed,
+                    std::vector<CanImuMessage>& imu_out, std::vector<CanWheelMessage>& wheels_out) {
+  wheels.validate();
+  imu_out.clear();
+  wheels_out.clear();
+  // The gyro as in the Boreas layout, turned into the IMU's axes (x forward, y left, z up).
+  for (const BoreasImuRow& r : simulateImu(ego, t_begin, t_end, t0, stamp0_us, imu, seed)) {
+    CanImuMessage m;
+    m.utime = r.stamp_us;
+    m.rotation_rate = {r.angular_velocity.y(), -r.angular_velocity.x(), r.angular_velocity.z()};
+    m.linear_accel = {r.acceleration.y(), -r.acceleration.x(), 9.81};
+    const double h = ego.at(t0 + 1e-6 * static_cast<double>(r.stamp_us - stamp0_us)).z();
+    m.q = {std::cos(0.5 * h), 0.0, 0.0, std::sin(0.5 * h)};
+    imu_out.push_back(m);
+  }
+  std::mt19937_64 rng(seed ^ 0x5a17c0debeef1234ULL);  // its own stream
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const double radius = wheels.radius * (1.0 + wheels.radius_error * normal(rng));
+  const double dt = 1.0 / wheels.rate, to_rpm = 60.0 / (2.0 * kPi * radius);
+  for (std::int64_t i = 0;; ++i) {
+    const double t = t_begin + static_cast<double>(i) * dt;
+    if (t > t_end) break;
+    const Eigen::Vector3d v = ego.velocity(t);  // at the rear axle, the ego frame's origin
+    CanWheelMessage m;
+    m.utime = stamp0_us + static_cast<std::int64_t>(std::llround((t - t0) * 1e6));
+    const double half = 0.5 * wheels.track * v.z();
+    m.rl = (v.x() - half) * to_rpm + wheels.noise * normal(rng);
+    m.rr = (v.x() + half) * to_rpm + wheels.noise * normal(rng);
+    m.fl = m.rl;
+    m.fr = m.rr;
+    wheels_out.push_back(m);
+  }
 }
 
 }  // namespace sim

@@ -234,3 +234,29 @@ TEST(ScanningGyro, NoGyroFileIsSaidOnceAndChangesNothing) {
   for (std::size_t k = 0; k < radar.estimate.size(); ++k)
     EXPECT_TRUE(asked.estimate.poses[k].isApprox(radar.estimate.poses[k], 0.0)) << k;
 }
+
+// The simulator's CAN bus (automotive layout) is what the nuScenes reader reads: the gyro's yaw
+// integrates to the heading change with its sign, the rear wheels' distance is the path's within
+// the drawn radius error.
+TEST(SimCanBus, TheNuScenesReaderReadsItsGyroAndWheels) {
+  const std::string dir = freshTempDir("sim_can_bus");
+  const sim::SimTrajectory ego = sim::builtinDrive(60.0);
+  const std::int64_t stamp0 = 1547120000000000;
+  sim::ImuOptions imu = sim::imuPreset(sim::ImuGrade::Navigation);
+  imu.rate = 100.0;
+  sim::WheelOptions wheels;
+  std::vector<CanImuMessage> imu_messages;
+  std::vector<CanWheelMessage> wheel_messages;
+  sim::simulateCanBus(ego, 0.0, 60.0, 0.0, stamp0, imu, wheels, 4, imu_messages, wheel_messages);
+  writeNuScenesCanBus(dir, "sim-0001", imu_messages, wheel_messages);
+  const auto signals = readNuScenesCanBus(dir, "sim-0001");
+  ASSERT_TRUE(signals.has_value());
+  EXPECT_EQ(signals->yaw_rate.size(), 6001u);  // 100 Hz over 60 s
+  const auto at = [&](double t) { return stamp0 + std::llround(t * 1e6); };
+  EXPECT_NEAR(signals->yaw_rate.integral(at(18), at(29)), normalizeAngle(ego.at(29).z() - ego.at(18).z()), 0.01);
+  EXPECT_GT(signals->yaw_rate.integral(at(18), at(29)), 1.0);  // the left turn, counter-clockwise
+  const double distance = signals->rear_wheel_rpm.integral(at(1), at(59)) / 60.0 * 2.0 * kPi * wheels.radius;
+  const double truth = ego.arcAt(59) - ego.arcAt(1);
+  EXPECT_NEAR(distance / truth, 1.0, 4 * wheels.radius_error);
+  EXPECT_NE(distance, truth);  // the true radius is not the nominal one
+}

@@ -9,10 +9,14 @@
 // Python's json module writes NaN and Infinity as bare words, which JSON has not: they are read as
 // missing values, and a message whose value is missing is left out (counted).
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "radar_ndt/io/vehicle_signals.h"
 #include "radar_ndt/time_series.h"
@@ -30,5 +34,23 @@ std::optional<VehicleSignals> readNuScenesCanBus(const std::string& dataroot, co
 /// (NaN) is left out; messages with equal `utime` keep the first. Throws IoError as above.
 TimeSeries readCanBusSeries(const std::string& file, const std::vector<std::string>& keys, int index = -1,
                             std::size_t* dropped = nullptr);
+
+/// One ms_imu message as the devkit's files hold it.
+struct CanImuMessage {
+  std::int64_t utime = 0;
+  Eigen::Vector3d rotation_rate = Eigen::Vector3d::Zero();  ///< rad/s, x forward, y left, z up
+  Eigen::Vector3d linear_accel = Eigen::Vector3d::Zero();   ///< m/s², gravity included
+  std::array<double, 4> q{1, 0, 0, 0};                      ///< w, x, y, z: attitude, arbitrary yaw
+};
+/// One zoe_veh_info message: the four wheel speeds (rpm).
+struct CanWheelMessage {
+  std::int64_t utime = 0;
+  double fl = 0, fr = 0, rl = 0, rr = 0;
+};
+
+/// Writes <dataroot>/can_bus/<scene>_ms_imu.json and <scene>_zoe_veh_info.json (the folder
+/// created), the fields readNuScenesCanBus and the devkit read, atomically.
+void writeNuScenesCanBus(const std::string& dataroot, const std::string& scene_name,
+                         const std::vector<CanImuMessage>& imu, const std::vector<CanWheelMessage>& wheels);
 
 }  // namespace radar_ndt

@@ -11,6 +11,7 @@
 
 #include "radar_ndt/fields.h"
 #include "radar_ndt/io/boreas_imu.h"
+#include "radar_ndt/io/nuscenes_can_bus.h"
 
 namespace radar_ndt {
 namespace sim {
@@ -45,6 +46,29 @@ void ImuOptions::fields(Visit&& visit) {
   visit(&S::scale_error, Field("imu_scale_error", "1σ of the scale-factor error drawn once a sequence").atLeast(0));
 }
 
+/// A car's wheel-speed sensors (the rear wheels, rpm on the CAN bus).
+struct WheelOptions {
+  double rate = 100.0;          ///< Hz (nuScenes' zoe_veh_info)
+  double radius = 0.305;        ///< m: the nominal rolling radius
+  double radius_error = 0.005;  ///< 1σ of the true radius's relative error, drawn once a sequence
+  double noise = 0.5;           ///< rpm, white noise on each message
+  double track = 1.5;           ///< m between the rear wheels
+  void validate() const;
+  template <typename Visit>
+  static void fields(Visit&& visit);
+};
+
+template <typename Visit>
+void WheelOptions::fields(Visit&& visit) {
+  using S = WheelOptions;
+  visit(&S::rate, Field("wheel_rate", "Hz the wheel speeds are sent at").positive());
+  visit(&S::radius, Field("wheel_radius", "m, the wheels' nominal rolling radius").positive());
+  visit(&S::radius_error,
+        Field("wheel_radius_error", "1σ of the true radius's relative error, drawn once a sequence").atLeast(0));
+  visit(&S::noise, Field("wheel_noise", "rpm, white noise on each wheel-speed message").atLeast(0));
+  visit(&S::track, Field("wheel_track", "m between the rear wheels").positive());
+}
+
 /// The preset's figures (docs/simulator.md); None: a perfect gyro.
 ImuOptions imuPreset(ImuGrade grade);
 
@@ -53,6 +77,14 @@ ImuOptions imuPreset(ImuGrade grade);
 /// stamp0_us + (t − t0) s. Deterministic for `seed`.
 std::vector<BoreasImuRow> simulateImu(const SimTrajectory& ego, double t_begin, double t_end, double t0,
                                       std::int64_t stamp0_us, const ImuOptions& options, std::uint64_t seed);
+
+/// The car's CAN bus as nuScenes' devkit lays it out: ms_imu (the gyro of `imu` about z up, at its
+/// rate; gravity in the accelerations; the heading as the attitude's yaw) and zoe_veh_info (each
+/// rear wheel's speed at the true radius, the front ones equal to them), over [t_begin, t_end],
+/// stamped stamp0_us + (t − t0) s. Deterministic for `seed`.
+void simulateCanBus(const SimTrajectory& ego, double t_begin, double t_end, double t0, std::int64_t stamp0_us,
+                    const ImuOptions& imu, const WheelOptions& wheels, std::uint64_t seed,
+                    std::vector<CanImuMessage>& imu_out, std::vector<CanWheelMessage>& wheels_out);
 
 }  // namespace sim
 

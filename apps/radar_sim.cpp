@@ -102,6 +102,11 @@ sim::SimTrajectory loadTrajectory(const Args& a, bool boreas, Trajectory& path, 
   return a.trajectory.empty() ? sim::builtinDrive(120.0) : sim::SimTrajectory(path, a.period);
 }
 
+/// Whether --imu asks for a gyro (and, automotive, wheel speeds) beside the sequence.
+bool wantsImu(const Args& a) {
+  return parseEnum<sim::ImuGrade>(a.imu) != sim::ImuGrade::None;
+}
+
 /// Writes the sequence --type and --layout ask for and prints what was written.
 void writeSequence(const po::variables_map& vm, const Args& a, apps::SimConfig config, const sim::SimTrajectory& ego,
                    const Trajectory& path, const Eigen::Vector3d& origin) {
@@ -128,13 +133,13 @@ void writeSequence(const po::variables_map& vm, const Args& a, apps::SimConfig c
     layout.enu_north = origin.y();
     layout.chirp_flags = a.chirp_flags;
     layout.chirp_beta = a.chirp_beta;
-    layout.imu = parseEnum<sim::ImuGrade>(a.imu) != sim::ImuGrade::None;
+    layout.imu = wantsImu(a);
     layout.imu_options = config.imu;
     summary = sim::writeBoreasSequence(a.out, ego, config.world, s, seq, layout);
   } else {
     summary = a.type == "scanning" ? sim::writeScanningSequence(a.out, ego, config.world, config.scanning, seq)
                                    : sim::writeAutomotiveSequence(a.out, ego, config.world, config.automotive, seq);
-    if (a.type == "automotive" && parseEnum<sim::ImuGrade>(a.imu) != sim::ImuGrade::None) {
+    if (a.type == "automotive" && wantsImu(a)) {
       // The car's CAN bus, from a second before the first sweep to a second after the last.
       const double t0 = ego.stamps()[seq.start];
       std::vector<CanImuMessage> imu;
@@ -160,7 +165,7 @@ void checkArgs(const Args& a) {
   if (a.layout == "boreas" && a.type != "scanning")
     throw std::invalid_argument("--layout boreas is for --type scanning");
   if (a.chirp_flags && a.layout != "boreas") throw std::invalid_argument("--chirp-flags is for --layout boreas");
-  if (parseEnum<sim::ImuGrade>(a.imu) != sim::ImuGrade::None && a.type == "scanning" && a.layout != "boreas")
+  if (wantsImu(a) && a.type == "scanning" && a.layout != "boreas")
     throw std::invalid_argument(
         "--imu is for --layout boreas (the only scanning layout with an IMU file) or --type automotive");
 }

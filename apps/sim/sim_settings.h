@@ -1,8 +1,7 @@
 #pragma once
 // radar_sim's settings: every number of the simulator's world, scanning sensor, automotive
-// sensor, gyro and
-// wheel speeds, by name (`--set name=value`, `--list-settings`), read from their field tables
-// (radar_ndt/sim/radar_sim.h). A name two tables share is given a distinct one there.
+// sensor, gyro and wheel speeds, by name (`--set name=value`, `--list-settings`), read from their
+// field tables (radar_ndt/sim/radar_sim.h). A name two tables share is given a distinct one there.
 
 #include <string>
 #include <vector>

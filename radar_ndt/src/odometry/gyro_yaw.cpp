@@ -44,8 +44,4 @@ double GyroYaw::update(double match_yaw, bool* fused) {
   return x_(0);
 }
 
-double GyroYaw::yawSigma() const {
-  return std::sqrt(P_(0, 0));
-}
-
 }  // namespace radar_ndt

@@ -58,7 +58,6 @@ class GyroYaw {
   /// beyond the gate (`*fused` false then).
   double update(double match_yaw, bool* fused = nullptr);
   double bias() const { return x_(1); }
-  double yawSigma() const;
   void reset();
 
  private:

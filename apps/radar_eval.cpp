@@ -13,9 +13,32 @@
 using namespace radar_ndt;
 namespace po = boost::program_options;
 
+namespace {
+
+/// --kitti-step: a count >= 1, or auto: 4 when the estimate is a Boreas odometry file (pyboreas
+/// compute_kitti_metrics takes step 4 for its radar benchmark, 10 for lidar and KITTI), else 10.
+std::size_t kittiStep(const std::string& text, const std::string& est_path, TrajectoryFormat format) {
+  if (text == "auto") {
+    if (format == TrajectoryFormat::Auto) format = detectTrajectoryFormat(est_path);
+    return format == TrajectoryFormat::Boreas ? 4 : 10;
+  }
+  std::size_t used = 0;
+  unsigned long long v = 0;
+  try {
+    v = std::stoull(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || text[0] == '-' || v == 0)
+    throw std::invalid_argument("--kitti-step must be auto or a count >= 1, not '" + text + "'");
+  return static_cast<std::size_t>(v);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  std::string gt_path, est_path, metric_text, plot_path, format_text;
-  std::size_t kitti_step = 10, frame_step = 1;
+  std::string gt_path, est_path, metric_text, plot_path, format_text, kitti_step_text;
+  std::size_t frame_step = 1;
   double one_m = 1.0;
   bool json = false;
   po::options_description opts("Options");
@@ -28,7 +51,9 @@ int main(int argc, char** argv) {
      "file format of both: auto|kitti|tum|boreas (auto: a Boreas pose CSV by its GPSTime header, else 12 "
      "columns KITTI, 8 TUM, 13 Boreas odometry)")
     ("metric", po::value(&metric_text)->default_value("kitti"), "kitti|1m|frame|ate|all, or a comma-separated list")
-    ("kitti-step", po::value(&kitti_step)->default_value(10), "kitti: a first frame every N poses")
+    ("kitti-step", po::value(&kitti_step_text)->default_value("auto"),
+     "kitti: a first frame every N poses; auto: 4 for Boreas odometry files (the Boreas SDK's radar "
+     "benchmark), else 10 (KITTI's)")
     ("segment-length", po::value(&one_m)->default_value(1.0), "1m: segment length (m)")
     ("frame-step", po::value(&frame_step)->default_value(1), "frame: compare poses i and i+N (N > 1 subsamples)")
     ("json", po::bool_switch(&json), "print one JSON object {\"metrics\": {...}} instead of the table")
@@ -37,7 +62,8 @@ int main(int argc, char** argv) {
   const std::string usage =
       "Usage: radar_eval --gt GT --est EST [--metric kitti|1m|frame|ate|all] [--json] [--plot out.svg]\n"
       "Association: by index when either file has no timestamps (KITTI; equal lengths needed), else by\n"
-      "timestamp with the ground truth interpolated. Metrics are defined in docs/metrics.md.";
+      "timestamp with the ground truth interpolated. Rotation blocks rounded off orthonormal (files with\n"
+      "few decimals) are projected onto rotations and reported. Metrics: docs/metrics.md.";
   po::variables_map vm;
   const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
   if (rc >= 0) return rc;
@@ -47,9 +73,16 @@ int main(int argc, char** argv) {
     timer.tic();
     const std::vector<Metric> metrics = parseMetrics(metric_text);
     const TrajectoryFormat format = parseTrajectoryFormat(format_text);
-    if (kitti_step == 0 || frame_step == 0) throw std::invalid_argument("--kitti-step and --frame-step must be >= 1");
+    if (frame_step == 0) throw std::invalid_argument("--frame-step must be >= 1");
     const Trajectory gt = readTrajectory(gt_path, format);
     const Trajectory est = readTrajectory(est_path, format);
+    for (const auto* t : {&gt, &est})
+      if (t->projected_rotations > 0)
+        pcl::console::print_warn(
+            "%s: %zu of %zu rotation blocks are not orthonormal (max |RtR - I| = %.2g, a file rounded to few "
+            "decimals): projected onto rotations\n",
+            (t == &gt ? gt_path : est_path).c_str(), t->projected_rotations, t->size(), t->max_rotation_deviation);
+    const std::size_t kitti_step = kittiStep(kitti_step_text, est_path, format);
     const PosePairs pairs = associate(gt, est);
     EvaluationOptions options;
     options.kitti_step = kitti_step;

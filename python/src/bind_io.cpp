@@ -161,6 +161,10 @@ void bindTrajectory(py::module_& m) {
       .def("__len__", &Trajectory::size)
       .def_property_readonly("poses", &posesArray, "numpy.ndarray: (N, 4, 4) float64 homogeneous poses")
       .def_property_readonly("stamps", &stampsArray, "numpy.ndarray: (N,) seconds, or empty")
+      .def_readonly("projected_rotations", &Trajectory::projected_rotations,
+                    "int: rotation blocks of the file read that were not orthonormal (rounded) and were projected")
+      .def_readonly("max_rotation_deviation", &Trajectory::max_rotation_deviation,
+                    "float: the largest max|R^T R - I| among them")
       .def_property_readonly(
           "xy_yaw",
           [](const Trajectory& t) {

@@ -97,6 +97,14 @@ def test_trajectory_files_round_trip(work):
         radar_ndt.write_trajectory(path, t, fmt)
         back = radar_ndt.read_trajectory(path, fmt)
         assert np.allclose(back.xy_yaw, poses, atol=1e-6)
+        assert back.projected_rotations == 0  # written with full precision: read as written
+    # Rounded to 3 decimals, as other projects write them: projected onto rotations and counted.
+    rounded = work / "rounded.kitti"
+    rounded.write_text("1 0 0 0 0 1 0 0 0 0 1 0\n0.994 -0.100 0 1 0.100 0.994 0 0 0 0 1 0\n")
+    back = radar_ndt.read_trajectory(str(rounded))
+    assert back.projected_rotations == 1 and 1e-4 < back.max_rotation_deviation < 1e-2
+    R = back.poses[1][:3, :3]
+    assert np.allclose(R.T @ R, np.eye(3), atol=1e-12)
     assert np.allclose(t.pose_at(10.125)[:2, 3], [0.5, 0.05])
     assert t.pose_at(11.0) is None
 

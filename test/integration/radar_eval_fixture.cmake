@@ -22,7 +22,9 @@ endfunction()
 expect_near("metrics;kitti;trans_err_pct" 1.23125 0.001)
 expect_near("metrics;kitti;rot_err_deg_per_m" 0.0035856 0.00001)
 expect_near("metrics;frame;trans_err_m" 0.05212 0.0001)
-expect_near("metrics;frame;rot_err_deg" 0.0522 0.0002)
+# Published 0.05227: its evaluator takes angles of the 6-decimal blocks as written; radar_eval
+# projects them onto rotations first (docs/metrics.md), which the frame metric's small angles feel.
+expect_near("metrics;frame;rot_err_deg" 0.04777 0.0002)
 expect_near("metrics;ate;rmse_m" 7.68966 0.001)
 if(NOT EXISTS "${OUT}.svg")
   message(FATAL_ERROR "--plot wrote no ${OUT}.svg")

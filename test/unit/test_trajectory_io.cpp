@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -116,6 +117,9 @@ INSTANTIATE_TEST_SUITE_P(
         MalformedCase{"kitti_nan", "1 0 0 nan 0 1 0 0 0 0 1 0\n", TrajectoryFormat::Kitti, "non-finite", 1},
         MalformedCase{"kitti_inf", "1 0 0 0 0 1 0 inf 0 0 1 0\n", TrajectoryFormat::Kitti, "non-finite", 1},
         MalformedCase{"kitti_not_rotation", "2 0 0 0 0 1 0 0 0 0 1 0\n", TrajectoryFormat::Kitti, "not a rotation", 1},
+        MalformedCase{"kitti_reflection", "1 0 0 0 0 1 0 0 0 0 -1 0\n", TrajectoryFormat::Kitti, "det", 1},
+        MalformedCase{"boreas_not_rotation", "1 0.5 0 0 0 0 1 0 0 0 0 1 0\n", TrajectoryFormat::Boreas,
+                      "not a rotation", 1},
         MalformedCase{"kitti_trailing_junk", "1 0 0 0 0 1 0 0 0 0 1 0.5abc\n", TrajectoryFormat::Kitti,
                       "cannot parse '0.5abc'", 1},
         MalformedCase{"auto_bad_columns", "1 2 3 4 5\n", TrajectoryFormat::Auto, "cannot tell the trajectory format",
@@ -129,6 +133,64 @@ INSTANTIATE_TEST_SUITE_P(
         MalformedCase{"binary", "1 0 0 0 0 1 0 0 0 0 1 0\n\x01\x02\x00\x03 4\n", TrajectoryFormat::Kitti,
                       "cannot parse", 2}),
     [](const ::testing::TestParamInfo<MalformedCase>& i) { return std::string(i.param.name); });
+
+// Files rounded to few decimals (CFEAR's KITTI files keep 3) carry rotation blocks that are not
+// orthonormal: read as the nearest rotations and counted, never refused.
+TEST(TrajectoryIo, RoundedRotationBlocksAreProjectedAndCounted) {
+  const auto t = sampleTrajectory(false);
+  std::string text;
+  char buf[32];
+  for (const auto& T : t.poses)
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) {
+        std::snprintf(buf, sizeof(buf), "%.3f", T.matrix()(r, c));
+        text += buf;
+        text += (r == 2 && c == 3) ? '\n' : ' ';
+      }
+  const Trajectory read = readTrajectory(writeText("rounded.kitti", text));
+  ASSERT_EQ(read.size(), t.size());
+  EXPECT_GT(read.projected_rotations, t.size() / 2);
+  EXPECT_GT(read.max_rotation_deviation, 1e-4);
+  EXPECT_LT(read.max_rotation_deviation, 5e-3);
+  for (std::size_t i = 0; i < read.size(); ++i) {
+    const Eigen::Matrix3d R = read.poses[i].linear();
+    EXPECT_LT((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-8) << i;
+    EXPECT_NEAR(R.determinant(), 1.0, 1e-8);
+    // The nearest rotation: within the rounding of the true one.
+    EXPECT_LT(Eigen::AngleAxisd(R.transpose() * t.poses[i].linear()).angle(), 2e-3) << i;
+  }
+  // An exact file has nothing to project.
+  const std::string exact = ::testing::TempDir() + "radar_ndt_traj_exact.kitti";
+  writeKitti(exact, t);
+  EXPECT_EQ(readKitti(exact).projected_rotations, 0u);
+}
+
+// Boreas odometry files are re-orthogonalised as pyboreas utils.enforce_orthog does: columns 1 and 2
+// kept in direction, column 0 their cross product (the SDK's scores depend on this choice).
+TEST(TrajectoryIo, BoreasBlocksAreOrthogonalisedAsTheSdkDoes) {
+  const double c = std::cos(0.3), s = std::sin(0.3);
+  char line[256];
+  // T_rk_r0 with a yaw of 0.3 in the radar's axes, rounded so that the block is not orthonormal.
+  std::snprintf(line, sizeof(line), "1000000 %.3f %.3f 0 1.5 %.3f %.3f 0 -2 0 0 1 0\n", c, -s, s, c);
+  const Trajectory t = readTrajectory(writeText("rounded.boreas", line));
+  ASSERT_EQ(t.projected_rotations, 1u);
+  // The SDK's result, computed here by its steps on the rounded block.
+  Eigen::Matrix3d R;
+  char num[16];
+  auto rounded = [&](double v) {
+    std::snprintf(num, sizeof(num), "%.3f", v);
+    return std::stod(num);
+  };
+  R << rounded(c), rounded(-s), 0, rounded(s), rounded(c), 0, 0, 0, 1;
+  const Eigen::Vector3d c1 = R.col(1).normalized(), c2 = R.col(2).normalized();
+  Eigen::Matrix3d sdk;
+  sdk.col(0) = c1.cross(c2);
+  sdk.col(1) = c2.cross(Eigen::Vector3d(sdk.col(0)));
+  sdk.col(2) = c2;
+  // Read back as a vehicle pose: F (T_rk_r0)^-1 F with F = diag(1, -1, -1).
+  const Eigen::Matrix3d F = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  EXPECT_TRUE(t.poses[0].linear().isApprox(F * sdk.transpose() * F, 1e-15)) << t.poses[0].linear();
+}
 
 TEST(TrajectoryIo, MissingFileIsNamed) {
   expectError(::testing::TempDir() + "radar_ndt_no_such_file.txt", "cannot open", 0, TrajectoryFormat::Auto);

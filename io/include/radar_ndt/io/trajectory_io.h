@@ -18,6 +18,10 @@ namespace radar_ndt {
 struct Trajectory {
   std::vector<double> stamps;  ///< seconds; empty, or one per pose, strictly increasing
   std::vector<Eigen::Isometry3d> poses;
+  /// Set by the readers: how many rotation blocks of the file were not orthonormal (rounded
+  /// numbers) and were projected onto rotations, and the largest max|RᵀR − I| among them.
+  std::size_t projected_rotations = 0;
+  double max_rotation_deviation = 0.0;
 
   std::size_t size() const { return poses.size(); }
   bool empty() const { return poses.empty(); }
@@ -37,7 +41,9 @@ Eigen::Isometry3d interpolate(const Eigen::Isometry3d& a, const Eigen::Isometry3
 
 /// Boreas: the Boreas odometry leaderboard's file (pyboreas/eval/odometry.md): a line per scan,
 /// `<timestamp µs>` and the row-major 3x4 of T_rk_r0, the transform from the first radar frame to
-/// scan k's, in the radar's axes (x forward, y right, z down); read back as vehicle poses.
+/// scan k's, in the radar's axes (x forward, y right, z down); read back as vehicle poses. Rotation
+/// blocks are re-orthogonalised as the Boreas SDK does on reading (pyboreas utils.enforce_orthog),
+/// so that the file scores as the SDK scores it; counted as for KITTI.
 enum class TrajectoryFormat { Auto, Kitti, Tum, Boreas };
 template <>
 struct EnumNames<TrajectoryFormat> {
@@ -52,8 +58,10 @@ struct EnumNames<TrajectoryFormat> {
 /// A TrajectoryFormat's name in any case ("KITTI", "tum"); throws std::invalid_argument otherwise.
 TrajectoryFormat parseTrajectoryFormat(const std::string& name);
 
-/// Reads a KITTI file. Each rotation block must be a rotation (orthonormal, det +1, to 1e-3);
-/// NaN/Inf, a wrong count of numbers or an unparsable token is an error with its line number.
+/// Reads a KITTI file. A rotation block that is not orthonormal (a file rounded to few decimals) is
+/// replaced by the nearest rotation and counted in projected_rotations; one that no rounding
+/// explains (max|RᵀR − I| > 0.05 or det <= 0), NaN/Inf, a wrong count of numbers or an unparsable
+/// token is an error with its line number.
 Trajectory readKitti(const std::string& path);
 
 /// Reads a TUM file. Timestamps must be strictly increasing; quaternions are normalised (a norm
@@ -64,6 +72,10 @@ Trajectory readTum(const std::string& path);
 /// vehicle-frame trajectory; otherwise by the column count of the first data line (12: KITTI,
 /// 8: TUM, 13: Boreas odometry).
 Trajectory readTrajectory(const std::string& path, TrajectoryFormat format = TrajectoryFormat::Auto);
+
+/// The format readTrajectory's Auto finds in the file (a Boreas pose CSV counts as Boreas); throws
+/// as it does when there is none.
+TrajectoryFormat detectTrajectoryFormat(const std::string& path);
 
 /// Writers replace `path` atomically (written to a temporary file beside it, then renamed), so an
 /// interrupted run never leaves a half-written file under the final name. TUM needs stamps.

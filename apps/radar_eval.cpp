@@ -34,6 +34,18 @@ std::size_t kittiStep(const std::string& text, const std::string& est_path, Traj
   return static_cast<std::size_t>(v);
 }
 
+/// Reads a trajectory and says how many of its rotation blocks were rounded off orthonormal and
+/// projected.
+Trajectory readReported(const std::string& path, TrajectoryFormat format) {
+  Trajectory t = readTrajectory(path, format);
+  if (t.projected_rotations > 0)
+    pcl::console::print_warn(
+        "%s: %zu of %zu rotation blocks are not orthonormal (max |RtR - I| = %.2g, a file rounded to few "
+        "decimals): projected onto rotations\n",
+        path.c_str(), t.projected_rotations, t.size(), t.max_rotation_deviation);
+  return t;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -74,18 +86,11 @@ int main(int argc, char** argv) {
     const std::vector<Metric> metrics = parseMetrics(metric_text);
     const TrajectoryFormat format = parseTrajectoryFormat(format_text);
     if (frame_step == 0) throw std::invalid_argument("--frame-step must be >= 1");
-    const Trajectory gt = readTrajectory(gt_path, format);
-    const Trajectory est = readTrajectory(est_path, format);
-    for (const auto* t : {&gt, &est})
-      if (t->projected_rotations > 0)
-        pcl::console::print_warn(
-            "%s: %zu of %zu rotation blocks are not orthonormal (max |RtR - I| = %.2g, a file rounded to few "
-            "decimals): projected onto rotations\n",
-            (t == &gt ? gt_path : est_path).c_str(), t->projected_rotations, t->size(), t->max_rotation_deviation);
-    const std::size_t kitti_step = kittiStep(kitti_step_text, est_path, format);
+    const Trajectory gt = readReported(gt_path, format);
+    const Trajectory est = readReported(est_path, format);
     const PosePairs pairs = associate(gt, est);
     EvaluationOptions options;
-    options.kitti_step = kitti_step;
+    options.kitti_step = kittiStep(kitti_step_text, est_path, format);
     options.one_meter_length = one_m;
     options.frame_step = frame_step;
     const EvaluationReport report = evaluate(pairs, metrics, options);

@@ -48,58 +48,6 @@ void keepChannels(std::vector<NuScenesSweep>& sweeps, const std::vector<std::str
   if (sweeps.empty()) throw std::invalid_argument("scene " + scene + " has no sweeps of the chosen radar channels");
 }
 
-/// The channel that clocks the cycles: the one asked for, or the forward-facing radar (mounting yaw
-/// closest to 0; ties: the one further forward).
-int chooseReferenceChannel(const std::vector<NuScenesSweep>& sweeps, const std::vector<std::string>& channels,
-                           const std::string& asked, const std::string& scene) {
-  std::map<std::uint16_t, SensorMounting> mount;
-  for (const auto& s : sweeps)
-    if (!mount.count(s.channel_index)) mount[s.channel_index] = toMounting(s.sensor_to_ego);
-  int ref = -1;
-  if (!asked.empty()) {
-    for (const auto& [idx, m] : mount)
-      if (channels[idx] == asked) ref = idx;
-    if (ref < 0)
-      throw std::invalid_argument("reference channel '" + asked + "' has no sweeps in " + scene + " (radar channels: " +
-                                  joinNames(mount, [&](const auto& e) { return channels[e.first]; }) + ")");
-    return ref;
-  }
-  double best = 1e9;
-  for (const auto& [idx, m] : mount) {
-    const double score = std::abs(normalizeAngle(m.yaw)) - 1e-3 * m.x;
-    if (score < best) {
-      best = score;
-      ref = idx;
-    }
-  }
-  return ref;
-}
-
-/// Silences: per channel, gaps of more than three of its median intervals, as messages.
-std::vector<std::string> findSilences(const std::vector<SweepStamp>& stamps, const std::vector<std::string>& channels) {
-  std::vector<std::string> out;
-  std::map<std::uint16_t, std::vector<std::int64_t>> by_channel;
-  for (const auto& st : stamps) by_channel[st.channel].push_back(st.timestamp_us);
-  for (const auto& [channel, t] : by_channel) {
-    if (t.size() < 3) continue;
-    std::vector<std::int64_t> gaps;
-    for (std::size_t i = 1; i < t.size(); ++i) gaps.push_back(t[i] - t[i - 1]);
-    std::vector<std::int64_t> sorted = gaps;
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    const std::int64_t typical = sorted[sorted.size() / 2];
-    for (std::size_t i = 0; i < gaps.size(); ++i)
-      if (typical > 0 && gaps[i] > 3 * typical) {
-        char line[256];
-        std::snprintf(line, sizeof line,
-                      "%s: silent for %.2f s (no sweep from %lld to %lld us; its sweeps are %.3f s apart)",
-                      channels[channel].c_str(), 1e-6 * static_cast<double>(gaps[i]), static_cast<long long>(t[i]),
-                      static_cast<long long>(t[i + 1]), 1e-6 * static_cast<double>(typical));
-        out.push_back(line);
-      }
-  }
-  return out;
-}
-
 }  // namespace
 
 NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene,
@@ -109,13 +57,16 @@ NuScenesRadarSequence::NuScenesRadarSequence(const NuScenesDataset& dataset, con
   if (sweeps_.empty()) throw std::invalid_argument("scene " + scene.name + " has no radar sweeps");
   const auto& channels = dataset.radarChannels();
   keepChannels(sweeps_, channels, options.channels, scene.name);
-  const int ref = chooseReferenceChannel(sweeps_, channels, options.reference_channel, scene.name);
-  reference_channel_ = channels[static_cast<std::size_t>(ref)];
+  std::map<std::uint16_t, SensorMounting> mountings;
+  for (const auto& s : sweeps_)
+    if (!mountings.count(s.channel_index)) mountings[s.channel_index] = toMounting(s.sensor_to_ego);
+  const std::uint16_t ref = chooseReferenceChannel(mountings, channels, options.reference_channel, scene.name);
+  reference_channel_ = channels[ref];
   std::vector<SweepStamp> stamps;
   stamps.reserve(sweeps_.size());
   for (const auto& s : sweeps_) stamps.push_back({s.timestamp_us, s.channel_index});
-  plans_ = planRadarCycles(stamps, static_cast<std::uint16_t>(ref));
-  silences_ = findSilences(stamps, channels);
+  plans_ = planRadarCycles(stamps, ref);
+  silences_ = findRadarSilences(stamps, channels);
   if (plans_.size() >= 2)
     period_s_ = 1e-6 * static_cast<double>(timestamp(plans_.size() - 1) - timestamp(0)) /
                 static_cast<double>(plans_.size() - 1);

@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "radar_ndt/se2.h"
 
 namespace radar_ndt {
 
@@ -55,6 +59,55 @@ SensorMounting toMounting(const Eigen::Isometry3d& T) {
   m.yaw = std::atan2(forward.y(), forward.x());
   m.valid = true;
   return m;
+}
+
+std::uint16_t chooseReferenceChannel(const std::map<std::uint16_t, SensorMounting>& mountings,
+                                     const std::vector<std::string>& names, const std::string& asked,
+                                     const std::string& where) {
+  if (!asked.empty()) {
+    for (const auto& [idx, m] : mountings)
+      if (idx < names.size() && names[idx] == asked) return idx;
+    std::string there;
+    for (const auto& e : mountings) there += (there.empty() ? "" : ", ") + names.at(e.first);
+    throw std::invalid_argument("reference channel '" + asked + "' has no sweeps in " + where +
+                                " (radar channels: " + there + ")");
+  }
+  if (mountings.empty()) throw std::invalid_argument(where + " has no radar sweeps");
+  double best = 1e9;
+  std::uint16_t ref = mountings.begin()->first;
+  for (const auto& [idx, m] : mountings) {
+    const double score = std::abs(normalizeAngle(m.yaw)) - 1e-3 * m.x;
+    if (score < best) {
+      best = score;
+      ref = idx;
+    }
+  }
+  return ref;
+}
+
+std::vector<std::string> findRadarSilences(const std::vector<SweepStamp>& stamps,
+                                           const std::vector<std::string>& names) {
+  std::vector<std::string> out;
+  std::map<std::uint16_t, std::vector<std::int64_t>> by_channel;
+  for (const auto& st : stamps) by_channel[st.channel].push_back(st.timestamp_us);
+  for (const auto& [channel, t] : by_channel) {
+    if (t.size() < 3) continue;
+    std::vector<std::int64_t> gaps;
+    for (std::size_t i = 1; i < t.size(); ++i) gaps.push_back(t[i] - t[i - 1]);
+    std::vector<std::int64_t> sorted = gaps;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    const std::int64_t typical = sorted[sorted.size() / 2];
+    for (std::size_t i = 0; i < gaps.size(); ++i)
+      if (typical > 0 && gaps[i] > 3 * typical) {
+        char line[256];
+        std::snprintf(line, sizeof line,
+                      "%s: silent for %.2f s (no sweep from %lld to %lld us; its sweeps are %.3f s apart)",
+                      names.at(channel).c_str(), 1e-6 * static_cast<double>(gaps[i]), static_cast<long long>(t[i]),
+                      static_cast<long long>(t[i + 1]), 1e-6 * static_cast<double>(typical));
+        out.push_back(line);
+      }
+  }
+  return out;
 }
 
 }  // namespace radar_ndt

@@ -109,7 +109,7 @@ struct PreparedCycle {
   double read_ms = 0, front_end_ms = 0;
 };
 
-PreparedCycle prepareCycle(const NuScenesRadarSequence& sequence, const AutomotiveFrontEnd& front_end, std::size_t k) {
+PreparedCycle prepareCycle(const RadarCycleSource& sequence, const AutomotiveFrontEnd& front_end, std::size_t k) {
   PreparedCycle p;
   p.index = k;
   const auto t0 = Clock::now();
@@ -156,6 +156,14 @@ std::string problemOf(const OdometryStep& step, const AutomotiveOdometryOptions&
          " each): the Doppler motion";
 }
 
+/// A method that is the car's own dead reckoning cannot run on a recording without the car's sensors.
+void checkCarInputs(const AutomotiveInputs& inputs, const AutomotiveRunOptions& options) {
+  const MatcherUses& uses = findMatcher(options.matcher.method).uses;
+  if ((uses.gyro || uses.wheels) && !inputs.car)
+    throw std::invalid_argument(inputs.cycles.sceneName() + ": method " + options.matcher.method +
+                                " needs the car's own sensors, and the recording has none");
+}
+
 }  // namespace
 
 AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
@@ -163,13 +171,24 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
                                           const std::function<void(std::size_t, std::size_t)>& progress) {
   options.validate();
   const NuScenesRadarSequence sequence(dataset, scene, options.sequence);
+  AutomotiveInputs inputs{sequence, nullptr, {}};
+  if (options.odometry.car.any()) inputs.car = vehicleSignals(dataset, scene, options, inputs.problems);
+  return runAutomotiveOdometry(inputs, options, std::move(matcher), progress);
+}
+
+AutomotiveRunResult runAutomotiveOdometry(const AutomotiveInputs& inputs, const AutomotiveRunOptions& options,
+                                          MatcherAdapter matcher,
+                                          const std::function<void(std::size_t, std::size_t)>& progress) {
+  options.validate();
+  const RadarCycleSource& sequence = inputs.cycles;
   const AutomotiveFrontEnd front_end(options.front_end);
   AutomotiveOdometry odometry(options.odometry, std::move(matcher));
-  std::vector<std::string> car_problems;
-  if (options.odometry.car.any()) odometry.setVehicleSignals(vehicleSignals(dataset, scene, options, car_problems));
+  checkCarInputs(inputs, options);
+  if (options.odometry.car.any() && inputs.car) odometry.setVehicleSignals(inputs.car);
+  const std::vector<std::string>& car_problems = inputs.problems;
 
   AutomotiveRunResult result;
-  result.scene = scene.name;
+  result.scene = sequence.sceneName();
   result.method = options.matcher.method;
   result.submap_size = options.odometry.submap_size;
   result.reference_channel = sequence.referenceChannel();
@@ -212,8 +231,9 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
   result.counters = odometry.counters();
   result.estimate = odometry.trajectory();
   const Trajectory gt = sequence.groundTruthTrajectory();
-  result.ground_truth.stamps.assign(gt.stamps.begin(), gt.stamps.begin() + static_cast<std::ptrdiff_t>(n));
-  result.ground_truth.poses.assign(gt.poses.begin(), gt.poses.begin() + static_cast<std::ptrdiff_t>(n));
+  const auto m = static_cast<std::ptrdiff_t>(std::min(n, std::min(gt.stamps.size(), gt.poses.size())));
+  result.ground_truth.stamps.assign(gt.stamps.begin(), gt.stamps.begin() + m);
+  result.ground_truth.poses.assign(gt.poses.begin(), gt.poses.begin() + m);
   return result;
 }
 

@@ -41,33 +41,33 @@ void NuScenesSequenceOptions::fields(Visit&& visit) {
                           .cli("channels"));
 }
 
-class NuScenesRadarSequence {
+class NuScenesRadarSequence : public RadarCycleSource {
  public:
   NuScenesRadarSequence(const NuScenesDataset& dataset, const NuScenesScene& scene,
                         const NuScenesSequenceOptions& options = {});
 
-  const std::string& sceneName() const { return scene_name_; }
-  const std::string& referenceChannel() const { return reference_channel_; }
-  double periodSeconds() const { return period_s_; }
-  std::size_t size() const { return plans_.size(); }
+  const std::string& sceneName() const override { return scene_name_; }
+  const std::string& referenceChannel() const override { return reference_channel_; }
+  double periodSeconds() const override { return period_s_; }
+  std::size_t size() const override { return plans_.size(); }
   std::size_t sweepCount() const { return sweeps_.size(); }
 
-  std::int64_t timestamp(std::size_t k) const { return sweeps_[plans_[k].reference].timestamp_us; }
+  std::int64_t timestamp(std::size_t k) const override { return sweeps_[plans_[k].reference].timestamp_us; }
   /// Ego pose (vehicle to global) at cycle k's reference sweep.
   const Eigen::Isometry3d& groundTruth(std::size_t k) const { return sweeps_[plans_[k].reference].ego_to_global; }
   /// Ground truth of all cycles as a TUM trajectory (stamps in seconds) projected to SE(2)
   /// (x, y, yaw) and made relative to the first cycle: what an SE(2) odometry is compared with.
-  Trajectory groundTruthTrajectory() const;
+  Trajectory groundTruthTrajectory() const override;
 
   /// Radars that fell silent within the scene: one line for each gap of more than three of that
   /// radar's own median intervals between sweeps, naming the channel, its length and its times (an
   /// empty sweep is data; no sweep at all is a silence).
-  const std::vector<std::string>& silences() const { return silences_; }
+  const std::vector<std::string>& silences() const override { return silences_; }
 
   /// Reads cycle k's sweeps. A sweep that cannot be read (missing, truncated, malformed file) is
   /// left out and described in `problems` (file and reason); the cycle goes on with the others.
   RadarCycle load(std::size_t k, std::vector<std::string>* problems = nullptr,
-                  std::size_t* non_finite_dropped = nullptr) const;
+                  std::size_t* non_finite_dropped = nullptr) const override;
 
  private:
   std::string scene_name_;

@@ -5,6 +5,7 @@
 // next cycles are read and processed on worker threads while one is matched, in order.
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,7 +13,9 @@
 #include "radar_ndt/frontend/automotive_front_end.h"
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/nuscenes_sequence.h"
+#include "radar_ndt/io/radar_cycle.h"
 #include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/io/vehicle_signals.h"
 #include "radar_ndt/odometry/automotive_odometry.h"
 #include "radar_ndt/odometry/matcher.h"
 #include "radar_ndt/odometry/matcher_registry.h"
@@ -99,6 +102,22 @@ void runAutomotiveScenes(const NuScenesDataset& dataset, const std::vector<const
 /// shift); `options.matcher` is not used.
 AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
                                           const AutomotiveRunOptions& options, MatcherAdapter matcher,
+                                          const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
+
+/// What a run reads: the cycles, and the car's own motion sensors when the recording has them.
+struct AutomotiveInputs {
+  const RadarCycleSource& cycles;
+  /// The car's gyro and wheel speeds; null when the recording has none (then a method that needs
+  /// them is refused, and the options' car sensors are left unused).
+  std::shared_ptr<const VehicleSignals> car;
+  /// Problems met reading the inputs, reported first among the run's.
+  std::vector<std::string> problems;
+};
+
+/// The run on any source of radar cycles (a nuScenes scene, a ROS bag): what the overloads above
+/// run once they have read their scene.
+AutomotiveRunResult runAutomotiveOdometry(const AutomotiveInputs& inputs, const AutomotiveRunOptions& options,
+                                          MatcherAdapter matcher,
                                           const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
 
 /// `options` set for `method` (a name in the registry of matchers): the method, and what it needs

@@ -125,9 +125,9 @@ void refuseUnused(const po::variables_map& vm, const std::vector<FieldOption<R>>
 }  // namespace
 
 Pipeline pipelineOf(const std::string& format) {
-  if (format == "nuscenes") return Pipeline::Automotive;
+  if (format == "nuscenes" || format == "rosbag") return Pipeline::Automotive;
   if (format == "oxford" || format == "radiate" || format == "boreas") return Pipeline::Scanning;
-  throw std::invalid_argument("--format " + format + " is not supported (nuscenes, oxford, radiate, boreas)");
+  throw std::invalid_argument("--format " + format + " is not supported (nuscenes, rosbag, oxford, radiate, boreas)");
 }
 
 std::string pipelineOptionsMarkdown() {
@@ -166,8 +166,12 @@ void addPipelineOptions(po::options_description& opts) {
   // clang-format off
   opts.add_options()
     ("format", po::value<std::string>()->required(),
-     "dataset layout: nuscenes (automotive) | oxford | radiate | boreas (scanning); boreas scans with chirp types "
-     "take --threshold and --power-shift 0.43 by default")
+     "dataset layout: nuscenes | rosbag (automotive) | oxford | radiate | boreas (scanning); boreas scans with chirp "
+     "types take --threshold and --power-shift 0.43 by default")
+    ("bag", po::value<std::string>(), "rosbag: the ROS 1 bag (docs/ros.md)")
+    ("sensors", po::value<std::string>(),
+     "rosbag: the sensor description (YAML: topics, fields, mountings; docs/ros.md), or preset:NAME "
+     "(nuscenes_ars408, ti_iwr6843_rio)")
     ("dataroot", po::value<std::string>(), "nuscenes: the dataroot (holds v1.0-*/, samples/, sweeps/)")
     ("sequence", po::value<std::vector<std::string>>()->multitoken(),
      "oxford: a directory with radar.timestamps, radar/<stamp>.png and optionally "

@@ -3,6 +3,7 @@
 // layout dataroot. --format oxford|radiate|boreas: the scanning pipeline (power threshold, weighted NDT
 // against keyframes with the paper's failure handling, motion compensation) on scan sequences.
 // Parses options, calls the library, writes and prints; the paper's tables are radar_paper_tables.
+#include <algorithm>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -19,9 +20,13 @@
 #include "radar_ndt/evaluation/top_view_map.h"
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/scanning_run.h"
+#ifdef RADAR_NDT_WITH_ROS
+#include "radar_ndt/ros/rosbag_sequence.h"
+#endif
 
 using namespace radar_ndt;
 namespace po = boost::program_options;
@@ -125,6 +130,53 @@ int runAutomotive(const po::variables_map& vm, const Outputs& base) {
   return reportFailures(o);
 }
 
+/// The sensor description with the command line's nuScenes-style sequence options applied to it:
+/// the reference radar, the radars used, the range.
+SensorDescription describedSensors(const po::variables_map& vm, const AutomotiveRunOptions& options) {
+  if (!vm.count("sensors")) throw std::invalid_argument("--format rosbag needs --sensors FILE.yaml (or preset:NAME)");
+  SensorDescription d = readSensorDescription(vm["sensors"].as<std::string>());
+  if (!options.sequence.reference_channel.empty()) d.reference = options.sequence.reference_channel;
+  if (!options.sequence.channels.empty()) {
+    std::vector<RadarDescription> kept;
+    for (const std::string& name : options.sequence.channels) {
+      const auto it = std::find_if(d.radars.begin(), d.radars.end(), [&](const auto& r) { return r.name == name; });
+      if (it == d.radars.end()) throw std::invalid_argument("--channels: no radar '" + name + "' in " + d.source);
+      kept.push_back(*it);
+    }
+    d.radars = kept;
+  }
+  if (vm.count("max-range"))
+    for (auto& r : d.radars) r.fields.max_range = options.sequence.filter.max_range;
+  return d;
+}
+
+#ifdef RADAR_NDT_WITH_ROS
+int runRosbag(const po::variables_map& vm, const Outputs& o) {
+  const AutomotiveRunOptions options = apps::automotiveOptions(vm);
+  if (!vm.count("bag")) throw std::invalid_argument("--format rosbag needs --bag FILE");
+  const ros1::RosbagRadarSequence bag(vm["bag"].as<std::string>(), describedSensors(vm, options));
+  AutomotiveInputs inputs{bag, bag.vehicleSignals(), bag.problems()};
+  if (options.odometry.car.wheels)
+    throw std::invalid_argument("--wheels: a bag's wheel speeds are not read (docs/ros.md); --imu fuses its gyro");
+  if (options.odometry.car.gyro && !inputs.car)
+    throw std::invalid_argument("--imu: " + vm["sensors"].as<std::string>() + " names no imu topic");
+  if (!options.odometry.car.any()) inputs.car = nullptr;
+  if (o.eval && bag.groundTruthTrajectory().empty())
+    throw std::invalid_argument("--eval: " + bag.sceneName() + " has no ground truth at the cycles' times");
+  const AutomotiveRunResult r =
+      runAutomotiveOdometry(inputs, options, makeMatcher(options.matcher), apps::Progress{o.progress, bag.sceneName()});
+  std::optional<EvaluationReport> report;
+  const json run = finish(r, bag.sceneName(), o, report);
+  if (o.json) printJson({run}, {}, "scenes");
+  return reportFailures(o);
+}
+#else
+int runRosbag(const po::variables_map&, const Outputs&) {
+  throw std::invalid_argument(
+      "--format rosbag: this build has no ROS support (Debian's ROS 1 was not found: bash .ci/deps)");
+}
+#endif
+
 int runScanning(const po::variables_map& vm, const Outputs& base) {
   const std::vector<std::string> dirs = apps::sequenceDirs(vm);
   const ScanFormat format = parseEnum<ScanFormat>(vm["format"].as<std::string>());
@@ -196,6 +248,7 @@ const char* const kUsage =
     "                      [--mode cycle-to-map|paper] [--map-cycles M] [--submap N] [--grid G] [--out traj.txt] "
     "[--eval]\n"
     "                      [--metric 1m|kitti|frame|ate|all] [--json] [--plot out.svg]\n"
+    "       radar_odometry --format rosbag --bag FILE --sensors FILE.yaml|preset:NAME [the nuscenes options]\n"
     "       radar_odometry --format oxford|radiate|boreas --sequence DIR... [--method pw-ndt|pcl-ndt|pcl-icp] "
     "[--grid G]\n"
     "                      [--threshold T] [--power-shift S] [--points cartesian|polar] [--out traj.txt] [--eval] "
@@ -241,6 +294,7 @@ int main(int argc, char** argv) {
     if (!o.metric.empty()) parseMetrics(o.metric);
     if (!o.map.empty() && apps::pipelineOf(vm["format"].as<std::string>()) != apps::Pipeline::Scanning)
       throw std::invalid_argument("--map is for the scanning pipeline (--format oxford|radiate|boreas)");
+    if (vm["format"].as<std::string>() == "rosbag") return runRosbag(vm, o);
     return apps::pipelineOf(vm["format"].as<std::string>()) == apps::Pipeline::Automotive ? runAutomotive(vm, o)
                                                                                           : runScanning(vm, o);
   });

@@ -32,73 +32,49 @@ double ars408RmsValue(int state_index) {
 
 // ---- radar PCD --------------------------------------------------------------------------------
 
-namespace {
-
-enum Column { kX, kY, kZ, kVx, kVy, kRcs, kDynProp, kAmbig, kInvalid, kXRms, kYRms, kColumns };
-constexpr const char* kColumnNames[kColumns] = {
-    "x", "y", "z", "vx", "vy", "rcs", "dyn_prop", "ambig_state", "invalid_state", "x_rms", "y_rms"};
-
-bool accepts(const std::vector<int>& allowed, double value) {
-  if (allowed.empty()) return true;
-  if (!std::isfinite(value)) return false;
-  const int v = static_cast<int>(std::lround(value));
-  return std::find(allowed.begin(), allowed.end(), v) != allowed.end();
+RadarPointFields nuScenesArs408Fields(const NuScenesRadarFilter& filter) {
+  RadarPointFields f;
+  f.doppler = DopplerKind::Components;
+  f.vx = "vx";
+  f.vy = "vy";
+  f.rcs = "rcs";
+  f.accuracy = AccuracyKind::Ars408Rms;
+  f.accuracy_x = "x_rms";
+  f.accuracy_y = "y_rms";
+  f.max_range = filter.max_range;
+  f.keep = {
+      {"invalid_state", filter.invalid_states}, {"dyn_prop", filter.dyn_props}, {"ambig_state", filter.ambig_states}};
+  return f;
 }
-
-}  // namespace
 
 pcl::PointCloud<PointRadar> readNuScenesRadarPcd(const std::string& path, const NuScenesRadarFilter& filter,
                                                  std::uint16_t sensor_id, NuScenesPcdStats* stats) {
   const detail::PcdHeader h = detail::readPcdHeader(path);
-  std::array<int, kColumns> col;
-  for (int c = 0; c < kColumns; ++c) col[c] = h.find(kColumnNames[c]);
-  for (int c : {kX, kY, kVx, kVy})
-    if (col[c] < 0)
-      throw IoError(path,
-                    std::string("no field '") + kColumnNames[c] + "': not a nuScenes radar PCD (needs x y vx vy)");
-
-  const std::size_t n = h.points;
-  // Only the columns we use, as doubles: [point][column], NaN where the file lacks the field.
-  const std::vector<double> table =
-      detail::readPcdColumns(path, h, std::vector<std::string>(std::begin(kColumnNames), std::end(kColumnNames)));
-
-  NuScenesPcdStats local;
-  local.points_in_file = n;
-  pcl::PointCloud<PointRadar> cloud;
-  cloud.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double* r = &table[i * kColumns];
-    const double z = std::isnan(r[kZ]) && col[kZ] < 0 ? 0.0 : r[kZ];
-    // Finite as floats too: a value beyond float's range is as unusable as Inf.
-    if (!detail::finiteAsFloat(r[kX]) || !detail::finiteAsFloat(r[kY]) || !detail::finiteAsFloat(z) ||
-        !detail::finiteAsFloat(r[kVx]) || !detail::finiteAsFloat(r[kVy])) {
-      ++local.dropped_non_finite;
-      continue;
-    }
-    const double range = std::sqrt(r[kX] * r[kX] + r[kY] * r[kY] + z * z);
-    const bool keep = range <= filter.max_range && (col[kInvalid] < 0 || accepts(filter.invalid_states, r[kInvalid])) &&
-                      (col[kDynProp] < 0 || accepts(filter.dyn_props, r[kDynProp])) &&
-                      (col[kAmbig] < 0 || accepts(filter.ambig_states, r[kAmbig]));
-    if (!keep) {
-      ++local.dropped_by_filter;
-      continue;
-    }
-    PointRadar p(static_cast<float>(r[kX]), static_cast<float>(r[kY]), static_cast<float>(z), 1.f);
-    const double doppler = range > 1e-6 ? (r[kX] * r[kVx] + r[kY] * r[kVy]) / range : 0.0;
-    p.doppler = detail::finiteAsFloat(doppler) ? static_cast<float>(doppler) : 0.f;
-    p.rcs = detail::finiteAsFloat(r[kRcs]) ? static_cast<float>(r[kRcs]) : 0.f;
-    p.sensor_id = sensor_id;
-    const double sx = std::isfinite(r[kXRms]) ? ars408RmsValue(static_cast<int>(std::lround(r[kXRms]))) : NAN;
-    const double sy = std::isfinite(r[kYRms]) ? ars408RmsValue(static_cast<int>(std::lround(r[kYRms]))) : NAN;
-    if (std::isfinite(sx) && std::isfinite(sy)) {
-      p.cov_xx = static_cast<float>(sx * sx);
-      p.cov_yy = static_cast<float>(sy * sy);
-    }
-    cloud.push_back(p);
-  }
-  local.kept = cloud.size();
-  if (stats) *stats = local;
+  const RadarPointFields fields = nuScenesArs408Fields(filter);
+  const std::vector<std::string> columns = fields.columns();
+  for (const std::string& name : fields.requiredColumns())
+    if (h.find(name) < 0) throw IoError(path, "no field '" + name + "': not a nuScenes radar PCD (needs x y vx vy)");
+  std::vector<char> present;
+  for (const std::string& name : columns) present.push_back(h.find(name) >= 0);
+  // Only the columns used, as doubles: [point][column], NaN where the file lacks the field.
+  const std::vector<double> table = detail::readPcdColumns(path, h, columns);
+  RadarPointStats s;
+  pcl::PointCloud<PointRadar> cloud = convertRadarPoints(table, h.points, present, fields, sensor_id, &s);
+  if (stats) *stats = {s.points_in_data, s.kept, s.dropped_by_filter, s.dropped_non_finite};
   return cloud;
+}
+
+PcdTable readPcdTable(const std::string& path) {
+  const detail::PcdHeader h = detail::readPcdHeader(path);
+  PcdTable t;
+  for (const auto& f : h.fields) {
+    t.names.push_back(f.name);
+    t.types.push_back(f.type);
+    t.sizes.push_back(f.size);
+  }
+  t.points = h.points;
+  t.values = detail::readPcdColumns(path, h, t.names);
+  return t;
 }
 
 // ---- JSON tables ------------------------------------------------------------------------------
@@ -160,6 +136,11 @@ class Table {
     }
     return out;
   }
+  /// The rotation [w x y z] as the row holds it.
+  Eigen::Vector4d rotation(std::size_t row) const {
+    const auto q = numbers(row, "rotation", 4);
+    return Eigen::Vector4d(q[0], q[1], q[2], q[3]);
+  }
   /// translation [x y z] + rotation [w x y z] → isometry (quaternion normalised; near-zero refused).
   Eigen::Isometry3d pose(std::size_t row) const {
     const auto t = numbers(row, "translation", 3);
@@ -206,6 +187,7 @@ std::string findTableDirectory(const std::string& dataroot, const std::string& v
 struct Calibration {
   int channel;
   Eigen::Isometry3d pose;
+  Eigen::Vector4d rotation;
 };
 
 /// The radar sensors' tokens with their channel index; `channels` gets their names in table order.
@@ -227,7 +209,7 @@ std::unordered_map<std::string, Calibration> radarCalibrations(const Table& cali
   for (std::size_t i = 0; i < calibrated.size(); ++i) {
     const auto it = radars.find(calibrated.str(i, "sensor_token"));
     if (it == radars.end()) continue;  // a camera or lidar
-    calibration[calibrated.str(i, "token")] = {it->second, calibrated.pose(i)};
+    calibration[calibrated.str(i, "token")] = {it->second, calibrated.pose(i), calibrated.rotation(i)};
   }
   return calibration;
 }
@@ -300,9 +282,11 @@ NuScenesDataset::NuScenesDataset(const std::string& dataroot, const std::string&
     s.is_key_frame = sample_data.boolean(i, "is_key_frame", false);
     s.path = sweepPath(sample_data, i, dataroot_);
     s.sensor_to_ego = cal->second.pose;
+    s.sensor_rotation_wxyz = cal->second.rotation;
     const auto ego =
         lookUp(ego_row, sample_data.str(i, "ego_pose_token"), sample_data, i, "ego_pose_token", "ego_pose.json");
     s.ego_to_global = ego_pose.pose(ego->second);
+    s.ego_rotation_wxyz = ego_pose.rotation(ego->second);
     const auto sc =
         lookUp(sample_scene, sample_data.str(i, "sample_token"), sample_data, i, "sample_token", "sample.json");
     sweeps_by_scene_[sc->second].push_back(std::move(s));

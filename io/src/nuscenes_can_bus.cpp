@@ -105,6 +105,36 @@ TimeSeries readCanBusSeries(const std::string& file, const std::vector<std::stri
   return series;
 }
 
+std::optional<std::vector<CanImuMessage>> readNuScenesImuMessages(const std::string& dataroot,
+                                                                  const std::string& scene_name) {
+  const fs::path dir = fs::path(dataroot) / "can_bus";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return std::nullopt;
+  const std::string file = (dir / (scene_name + "_ms_imu.json")).string();
+  json messages;
+  try {
+    messages = json::parse(nullNonFinite(detail::readWholeFile(file)));
+  } catch (const json::exception& e) {
+    throw IoError(file, std::string("invalid JSON: ") + e.what());
+  }
+  if (!messages.is_array()) throw IoError(file, "expected a JSON list of messages");
+  std::vector<CanImuMessage> out;
+  for (std::size_t i = 0; i < messages.size(); ++i) {
+    const json& m = messages[i];
+    if (!m.is_object() || !m.contains("utime") || !m["utime"].is_number_integer())
+      throw IoError(file, "message " + std::to_string(i) + ": 'utime' is missing or not an integer");
+    CanImuMessage c;
+    c.utime = m["utime"].get<std::int64_t>();
+    for (int k = 0; k < 3; ++k) {
+      c.rotation_rate[k] = valueOf(m, "rotation_rate", k, file, i);
+      c.linear_accel[k] = valueOf(m, "linear_accel", k, file, i);
+    }
+    for (int k = 0; k < 4; ++k) c.q[static_cast<std::size_t>(k)] = valueOf(m, "q", k, file, i);
+    out.push_back(c);
+  }
+  return out;
+}
+
 std::optional<VehicleSignals> readNuScenesCanBus(const std::string& dataroot, const std::string& scene_name) {
   const fs::path dir = fs::path(dataroot) / "can_bus";
   std::error_code ec;

@@ -14,7 +14,8 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 seconds=${1:-60}
 shift || true
-all=(fuzz_polar_png fuzz_nuscenes_pcd fuzz_nuscenes_tables fuzz_trajectory fuzz_oxford_odometry_csv fuzz_sequence_index)
+all=(fuzz_polar_png fuzz_nuscenes_pcd fuzz_nuscenes_tables fuzz_trajectory fuzz_oxford_odometry_csv fuzz_sequence_index
+     fuzz_sensor_description)
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 data=../shared/data
@@ -97,6 +98,8 @@ else
   echo "fuzz: $data is absent: seeds from the simulator and built-in tables only" >&2
 fi
 prefixed 2 test/data/demo_gt.txt "$seeds/fuzz_trajectory/demo_tum.txt"
+mkdir -p "$seeds/fuzz_sensor_description"
+cp config/sensors/*.yaml "$seeds/fuzz_sensor_description/"
 prefixed 0 test/data/demo_gt.txt "$seeds/fuzz_trajectory/demo_auto.txt"
 RADAR_NDT_FUZZ_WRITE_SEEDS="$seeds/fuzz_nuscenes_tables" "$out/test/fuzz/fuzz_nuscenes_tables" 2>/dev/null || true
 

@@ -13,6 +13,7 @@
 #include <pcl/point_cloud.h>
 
 #include "radar_ndt/fields.h"
+#include "radar_ndt/io/radar_point_fields.h"
 #include "radar_ndt/point_types.h"
 
 namespace radar_ndt {
@@ -21,9 +22,9 @@ namespace radar_ndt {
 /// Index 31 ("invalid") and out-of-range indices give NaN.
 double ars408RmsValue(int state_index);
 
-/// Which detections the reader keeps. Defaults: the paper's 150 m range, the valid cluster states
-/// of the ARS408 (0 and the "valid with a remark" states), every dynamic property, unambiguous
-/// Doppler only. An empty list accepts every value.
+/// Which detections the reader keeps: each list holds the values kept. Defaults: the paper's 150 m
+/// range, the valid cluster states of the ARS408 (0 and the "valid with a remark" states), every
+/// dynamic property, unambiguous Doppler only. An empty list accepts every value.
 struct NuScenesRadarFilter {
   double max_range = 150.0;
   std::vector<int> invalid_states{0, 4, 8, 9, 10, 11, 12, 15, 16, 17};
@@ -39,9 +40,9 @@ void NuScenesRadarFilter::fields(Visit&& visit) {
   using S = NuScenesRadarFilter;
   visit(&S::max_range,
         Field("max_range", "detections beyond this range dropped").unit("m").positive().cli("max-range"));
-  visit(&S::invalid_states, Field("invalid_states", "invalid_state values dropped"));
-  visit(&S::dyn_props, Field("dyn_props", "dyn_prop values dropped"));
-  visit(&S::ambig_states, Field("ambig_states", "ambig_state values dropped"));
+  visit(&S::invalid_states, Field("invalid_states", "invalid_state values kept (empty: all)"));
+  visit(&S::dyn_props, Field("dyn_props", "dyn_prop values kept (empty: all)"));
+  visit(&S::ambig_states, Field("ambig_states", "ambig_state values kept (empty: all)"));
 }
 
 struct NuScenesPcdStats {
@@ -50,6 +51,11 @@ struct NuScenesPcdStats {
   std::size_t dropped_by_filter = 0;
   std::size_t dropped_non_finite = 0;  ///< NaN or Inf coordinates or velocities
 };
+
+/// The ARS408's fields as nuScenes writes them (x y z, vx vy, rcs, the x_rms y_rms accuracy
+/// states) with `filter` as their keep lists: what readNuScenesRadarPcd converts with, and the
+/// nuScenes sensor preset describes.
+RadarPointFields nuScenesArs408Fields(const NuScenesRadarFilter& filter);
 
 /// Reads one nuScenes radar PCD (DATA binary, ascii or binary_compressed; any field order; fields
 /// it does not use are skipped) into PointRadar in the sensor frame: x y z, `doppler` = the radial
@@ -60,6 +66,18 @@ struct NuScenesPcdStats {
 /// empty cloud. Throws IoError naming the file and the problem.
 pcl::PointCloud<PointRadar> readNuScenesRadarPcd(const std::string& path, const NuScenesRadarFilter& filter,
                                                  std::uint16_t sensor_id, NuScenesPcdStats* stats = nullptr);
+
+/// Every field of a radar PCD as read, for writing it elsewhere (a ROS bag's PointCloud2) as it is.
+struct PcdTable {
+  std::vector<std::string> names;
+  std::vector<char> types;         ///< the PCD's TYPE letter: 'F' float, 'I' signed, 'U' unsigned
+  std::vector<std::size_t> sizes;  ///< bytes: 1, 2, 4 or 8
+  std::size_t points = 0;
+  std::vector<double> values;  ///< row-major: values[i * names.size() + c] (each field's first element)
+};
+
+/// Reads every field of a PCD file (ascii, binary or binary_compressed). Throws IoError.
+PcdTable readPcdTable(const std::string& path);
 
 struct NuScenesScene {
   std::string token;
@@ -80,6 +98,10 @@ struct NuScenesSweep {
   bool is_key_frame = false;
   Eigen::Isometry3d sensor_to_ego = Eigen::Isometry3d::Identity();  ///< calibrated_sensor
   Eigen::Isometry3d ego_to_global = Eigen::Isometry3d::Identity();  ///< ego_pose at this sweep
+  /// The two rotations as the tables hold them (w x y z, not normalised), for a writer that passes
+  /// them on to the last bit (a reader normalises them as this one does).
+  Eigen::Vector4d sensor_rotation_wxyz = Eigen::Vector4d(1, 0, 0, 0);
+  Eigen::Vector4d ego_rotation_wxyz = Eigen::Vector4d(1, 0, 0, 0);
 };
 
 /// The tables of a nuScenes-layout dataroot. Only sensor, calibrated_sensor, sample_data,

@@ -48,6 +48,11 @@ struct CanWheelMessage {
   double fl = 0, fr = 0, rl = 0, rr = 0;
 };
 
+/// The scene's ms_imu messages as the file holds them (NaN where it has NaN or null); nullopt when
+/// the dataroot has no can_bus/ folder. Throws IoError for a file that is missing or malformed.
+std::optional<std::vector<CanImuMessage>> readNuScenesImuMessages(const std::string& dataroot,
+                                                                  const std::string& scene_name);
+
 /// Writes <dataroot>/can_bus/<scene>_ms_imu.json and <scene>_zoe_veh_info.json (the folder
 /// created), the fields readNuScenesCanBus and the devkit read, atomically.
 void writeNuScenesCanBus(const std::string& dataroot, const std::string& scene_name,

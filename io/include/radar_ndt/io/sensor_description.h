@@ -1,0 +1,76 @@
+#pragma once
+// A sensor description: one YAML file that says where a recording's radars, IMU and ground truth
+// are (ROS topics), how each radar's point fields are named, how it reports Doppler and accuracy,
+// where it is mounted and which radar clocks the cycles. Presets for the sensors the project knows
+// are files in the same format (share/radar_ndt/sensors/, `preset:NAME`); docs/ros.md documents
+// every key. A bad file is an IoError naming the file, the key and the problem.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "radar_ndt/io/radar_point_fields.h"
+
+namespace radar_ndt {
+
+/// A mounting as written: x y z (m), roll pitch yaw (rad, applied z-y-x: R = Rz(yaw) Ry(pitch)
+/// Rx(roll)), the sensor frame in the vehicle frame (x forward, y left, z up).
+struct MountingDescription {
+  double x = 0, y = 0, z = 0, roll = 0, pitch = 0, yaw = 0;
+  Eigen::Isometry3d transform() const;
+};
+
+enum class RadarKind {
+  PointCloud,  ///< sensor_msgs/PointCloud2 detections (automotive and 4D radars)
+  Scanning,    ///< polar power images (Navtech); no ROS message layout is read yet (docs/ros.md)
+};
+
+/// Where a message's time comes from.
+enum class StampSource {
+  Header,   ///< the message's header stamp
+  Receive,  ///< the bag's receive time (the recorder's clock)
+  Auto,     ///< the header stamp, or the receive time when the driver writes zero stamps (said once)
+};
+
+struct RadarDescription {
+  std::string name;   ///< the channel's name in results and messages (default: the topic)
+  std::string topic;  ///< e.g. /RADAR_FRONT
+  RadarKind kind = RadarKind::PointCloud;
+  /// The sensor's frame id, for a mounting from the recording's TF; empty: the messages' frame_id.
+  std::string frame;
+  /// Where it sits on the vehicle; none: from the recording's /tf_static or /tf (base frame to `frame`).
+  std::optional<MountingDescription> mounting;
+  RadarPointFields fields;
+};
+
+struct SensorDescription {
+  std::string source;  ///< the file it was read from (or "preset:NAME"), for messages
+  std::string name;    ///< what it describes, e.g. "nuScenes: five Continental ARS408"
+  std::vector<RadarDescription> radars;
+  std::string reference;                 ///< the radar (name) that clocks the cycles; empty: the forward-facing one
+  std::string base_frame = "base_link";  ///< the vehicle frame of the mountings and the IMU
+  StampSource stamps = StampSource::Auto;
+  /// sensor_msgs/Imu of the vehicle: its angular_velocity.z is the yaw rate (a gyro mounted
+  /// with z up in the base frame); empty: none.
+  std::string imu_topic;
+  /// Ground truth: a nav_msgs/Odometry or geometry_msgs/PoseStamped topic, or tf2_msgs/TFMessage
+  /// (/tf) with the transform `ground_truth_parent` → `ground_truth_child`; empty topic: none.
+  std::string ground_truth_topic;
+  std::string ground_truth_parent = "map", ground_truth_child = "base_link";
+};
+
+/// Reads a sensor description file; `preset:NAME` reads the preset NAME (sensorPresets()).
+/// Throws IoError naming the file, the key (e.g. `radars[2].fields.doppler`) and the problem.
+SensorDescription readSensorDescription(const std::string& path);
+
+/// Parses a description from text (the file's contents); `source` names it in errors.
+SensorDescription parseSensorDescription(const std::string& text, const std::string& source);
+
+/// The presets there are (names), and the folder they are read from: the source tree's
+/// `config/sensors/` in a build, `share/radar_ndt/sensors/` once installed.
+std::vector<std::string> sensorPresets();
+std::string sensorPresetDirectory();
+
+}  // namespace radar_ndt

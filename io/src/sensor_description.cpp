@@ -1,0 +1,353 @@
+#include "radar_ndt/io/sensor_description.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "radar_ndt/io/io_error.h"
+#include "read_file.h"
+
+#ifndef RADAR_NDT_SENSOR_PRESETS_BUILD
+#define RADAR_NDT_SENSOR_PRESETS_BUILD ""
+#endif
+#ifndef RADAR_NDT_SENSOR_PRESETS_INSTALL
+#define RADAR_NDT_SENSOR_PRESETS_INSTALL ""
+#endif
+
+namespace radar_ndt {
+
+namespace fs = std::filesystem;
+
+Eigen::Isometry3d MountingDescription::transform() const {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  T.translation() << x, y, z;
+  return T;
+}
+
+namespace {
+
+/// A node with its key path, so every error names the file, the key and the line.
+class Node {
+ public:
+  Node(YAML::Node node, std::string key, const std::string* source)
+      : node_(std::move(node)), key_(std::move(key)), source_(source) {}
+
+  [[noreturn]] void fail(const std::string& problem) const {
+    std::ostringstream msg;
+    msg << (key_.empty() ? "the file" : key_) << ": " << problem;
+    const YAML::Mark mark = node_.Mark();
+    if (mark.line >= 0) throw IoError(*source_, static_cast<std::size_t>(mark.line) + 1, msg.str());
+    throw IoError(*source_, msg.str());
+  }
+  bool isMap() const { return node_.IsMap(); }
+  bool isSequence() const { return node_.IsSequence(); }
+  bool isScalar() const { return node_.IsScalar(); }
+  std::size_t size() const { return node_.size(); }
+
+  /// The child `name`, or an undefined node when absent.
+  std::optional<Node> child(const std::string& name) const {
+    const YAML::Node c = node_[name];
+    if (!c || c.IsNull()) return std::nullopt;
+    return Node(c, key_.empty() ? name : key_ + "." + name, source_);
+  }
+  Node at(std::size_t i) const { return Node(node_[i], key_ + "[" + std::to_string(i) + "]", source_); }
+
+  /// A map whose keys are all among `allowed` (a typo is an error, not a silently ignored key).
+  void expectMap(std::initializer_list<const char*> allowed) const {
+    if (!node_.IsMap()) fail("expected a mapping of keys");
+    for (const auto& kv : node_) {
+      const std::string k = kv.first.as<std::string>();
+      if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return k == a; })) {
+        std::string list;
+        for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+        Node(kv.first, key_.empty() ? k : key_ + "." + k, source_).fail("unknown key (known here: " + list + ")");
+      }
+    }
+  }
+  std::string text() const {
+    if (!node_.IsScalar()) fail("expected a single value");
+    return node_.Scalar();
+  }
+  double number() const {
+    const std::string t = text();
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(t, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != t.size() || t.empty() || !std::isfinite(v)) fail("'" + t + "' is not a finite number");
+    return v;
+  }
+  int integer() const {
+    const double v = number();
+    if (v != std::round(v) || std::abs(v) > 1e9) fail("'" + text() + "' is not an integer");
+    return static_cast<int>(v);
+  }
+  /// A mapping's keys, in the file's order.
+  std::vector<std::string> keys() const {
+    if (!node_.IsMap()) fail("expected a mapping of keys");
+    std::vector<std::string> out;
+    for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
+    return out;
+  }
+  std::vector<std::string> texts() const {
+    if (!node_.IsSequence()) fail("expected a list");
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < node_.size(); ++i) out.push_back(at(i).text());
+    return out;
+  }
+
+ private:
+  YAML::Node node_;
+  std::string key_;
+  const std::string* source_;
+};
+
+std::string textOr(const Node& n, const char* key, const std::string& fallback) {
+  const auto c = n.child(key);
+  return c ? c->text() : fallback;
+}
+
+MountingDescription readMounting(const Node& n) {
+  n.expectMap({"x", "y", "z", "roll", "pitch", "yaw"});
+  MountingDescription m;
+  auto num = [&](const char* k, double& v) {
+    if (const auto c = n.child(k)) v = c->number();
+  };
+  num("x", m.x);
+  num("y", m.y);
+  num("z", m.z);
+  num("roll", m.roll);
+  num("pitch", m.pitch);
+  num("yaw", m.yaw);
+  return m;
+}
+
+void readDoppler(const Node& n, RadarPointFields& f) {
+  if (n.isScalar() && n.text() == "none") {
+    f.doppler = DopplerKind::None;
+    return;
+  }
+  n.expectMap({"radial", "sign", "vx", "vy"});
+  const auto radial = n.child("radial");
+  const auto vx = n.child("vx"), vy = n.child("vy");
+  if (radial && (vx || vy)) n.fail("give either 'radial' or 'vx' and 'vy', not both");
+  if (radial) {
+    f.doppler = DopplerKind::Radial;
+    f.radial = radial->text();
+    const std::string sign = textOr(n, "sign", "receding");
+    if (sign == "receding")
+      f.radial_sign = 1.0;
+    else if (sign == "approaching")
+      f.radial_sign = -1.0;
+    else
+      n.child("sign")->fail("'" + sign +
+                            "': the sign is 'receding' (positive when the target moves away) or "
+                            "'approaching' (positive when it comes closer)");
+    return;
+  }
+  if (!vx || !vy) n.fail("needs 'radial' (one field) or both 'vx' and 'vy' (the velocity in the sensor frame)");
+  if (n.child("sign")) n.child("sign")->fail("a sign is for a radial field; vx and vy are in the sensor's axes");
+  f.doppler = DopplerKind::Components;
+  f.vx = vx->text();
+  f.vy = vy->text();
+}
+
+/// Two field names or two numbers: [a, b].
+std::pair<Node, Node> pairOf(const Node& n) {
+  if (!n.isSequence() || n.size() != 2) n.fail("expected a list of two: [along x, along y]");
+  return {n.at(0), n.at(1)};
+}
+
+void readAccuracy(const Node& n, RadarPointFields& f) {
+  if (n.isScalar()) {
+    if (n.text() != "model") n.fail("'" + n.text() + "': a single value must be 'model' (the data-sheet model)");
+    f.accuracy = AccuracyKind::Model;
+    return;
+  }
+  n.expectMap({"ars408_rms", "rms", "fixed"});
+  if (n.size() != 1) n.fail("give one of ars408_rms, rms, fixed");
+  if (const auto c = n.child("ars408_rms")) {
+    const auto [a, b] = pairOf(*c);
+    f.accuracy = AccuracyKind::Ars408Rms;
+    f.accuracy_x = a.text();
+    f.accuracy_y = b.text();
+  } else if (const auto r = n.child("rms")) {
+    const auto [a, b] = pairOf(*r);
+    f.accuracy = AccuracyKind::RmsFields;
+    f.accuracy_x = a.text();
+    f.accuracy_y = b.text();
+  } else if (const auto x = n.child("fixed")) {
+    const auto [a, b] = pairOf(*x);
+    f.accuracy = AccuracyKind::Fixed;
+    f.sigma_x = a.number();
+    f.sigma_y = b.number();
+    if (!(f.sigma_x > 0) || !(f.sigma_y > 0)) x->fail("standard deviations must be > 0 (m)");
+  }
+}
+
+RadarPointFields readFields(const Node& n) {
+  n.expectMap({"position", "doppler", "rcs", "power", "accuracy", "max_range", "keep"});
+  RadarPointFields f;
+  f.doppler = DopplerKind::None;
+  if (const auto p = n.child("position")) {
+    const std::vector<std::string> xyz = p->texts();
+    if (xyz.size() != 2 && xyz.size() != 3) p->fail("expected [x, y] or [x, y, z] field names");
+    f.x = xyz[0];
+    f.y = xyz[1];
+    f.z = xyz.size() == 3 ? xyz[2] : "";
+  }
+  const auto doppler = n.child("doppler");
+  if (!doppler) n.fail("missing key 'doppler' (radial: FIELD, or vx: FIELD and vy: FIELD, or none)");
+  readDoppler(*doppler, f);
+  f.rcs = textOr(n, "rcs", "");
+  f.power = textOr(n, "power", "");
+  if (const auto a = n.child("accuracy")) readAccuracy(*a, f);
+  if (const auto r = n.child("max_range")) {
+    f.max_range = r->number();
+    if (!(f.max_range > 0)) r->fail("must be > 0 (m)");
+  }
+  if (const auto k = n.child("keep")) {
+    if (!k->isMap()) k->fail("expected field: [values kept, ...]");
+    for (const std::string& name : k->keys()) {
+      const Node values = *k->child(name);
+      if (!values.isSequence()) values.fail("expected a list of the integer values kept");
+      std::vector<int> v;
+      for (std::size_t i = 0; i < values.size(); ++i) v.push_back(values.at(i).integer());
+      f.keep.emplace_back(name, v);
+    }
+  }
+  return f;
+}
+
+RadarDescription readRadar(const Node& n) {
+  n.expectMap({"name", "topic", "kind", "frame", "mounting", "fields"});
+  RadarDescription r;
+  const auto topic = n.child("topic");
+  if (!topic) n.fail("missing key 'topic' (the ROS topic of its messages)");
+  r.topic = topic->text();
+  if (r.topic.empty()) topic->fail("empty topic");
+  r.name = textOr(n, "name", r.topic);
+  const std::string kind = textOr(n, "kind", "point_cloud");
+  if (kind == "point_cloud")
+    r.kind = RadarKind::PointCloud;
+  else if (kind == "scanning")
+    r.kind = RadarKind::Scanning;
+  else
+    n.child("kind")->fail("'" + kind + "': the kind is point_cloud or scanning");
+  r.frame = textOr(n, "frame", "");
+  if (const auto m = n.child("mounting")) r.mounting = readMounting(*m);
+  const auto fields = n.child("fields");
+  if (!fields) n.fail("missing key 'fields' (the names of its point fields)");
+  r.fields = readFields(*fields);
+  return r;
+}
+
+void readGroundTruth(const Node& n, SensorDescription& d) {
+  if (n.isScalar()) {
+    d.ground_truth_topic = n.text();
+    return;
+  }
+  n.expectMap({"topic", "parent", "child"});
+  const auto topic = n.child("topic");
+  if (!topic) n.fail("missing key 'topic'");
+  d.ground_truth_topic = topic->text();
+  d.ground_truth_parent = textOr(n, "parent", d.ground_truth_parent);
+  d.ground_truth_child = textOr(n, "child", d.ground_truth_child);
+}
+
+SensorDescription readDescription(const Node& root, const std::string& source) {
+  root.expectMap({"name", "radars", "reference", "base_frame", "stamps", "imu", "ground_truth"});
+  SensorDescription d;
+  d.source = source;
+  d.name = textOr(root, "name", "");
+  d.base_frame = textOr(root, "base_frame", d.base_frame);
+  const std::string stamps = textOr(root, "stamps", "auto");
+  if (stamps == "header")
+    d.stamps = StampSource::Header;
+  else if (stamps == "receive")
+    d.stamps = StampSource::Receive;
+  else if (stamps == "auto")
+    d.stamps = StampSource::Auto;
+  else
+    root.child("stamps")->fail("'" + stamps + "': stamps are header, receive or auto");
+  d.imu_topic = textOr(root, "imu", "");
+  if (const auto gt = root.child("ground_truth")) readGroundTruth(*gt, d);
+  const auto radars = root.child("radars");
+  if (!radars) root.fail("missing key 'radars' (a list: one entry a radar)");
+  if (!radars->isSequence() || radars->size() == 0) radars->fail("expected a list of at least one radar");
+  std::set<std::string> names, topics;
+  for (std::size_t i = 0; i < radars->size(); ++i) {
+    RadarDescription r = readRadar(radars->at(i));
+    if (!names.insert(r.name).second) radars->at(i).fail("a second radar named '" + r.name + "'");
+    if (!topics.insert(r.topic).second) radars->at(i).fail("a second radar on topic '" + r.topic + "'");
+    d.radars.push_back(std::move(r));
+  }
+  d.reference = textOr(root, "reference", "");
+  if (!d.reference.empty() && !names.count(d.reference))
+    root.child("reference")->fail("'" + d.reference + "' is none of the radars' names");
+  return d;
+}
+
+}  // namespace
+
+SensorDescription parseSensorDescription(const std::string& text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    if (e.mark.line >= 0) throw IoError(source, static_cast<std::size_t>(e.mark.line) + 1, "not valid YAML: " + e.msg);
+    throw IoError(source, "not valid YAML: " + e.msg);
+  }
+  if (!root || root.IsNull()) throw IoError(source, "empty: a sensor description needs at least 'radars'");
+  try {
+    return readDescription(Node(root, "", &source), source);
+  } catch (const YAML::Exception& e) {
+    throw IoError(source, std::string("malformed: ") + e.what());
+  }
+}
+
+std::string sensorPresetDirectory() {
+  // RADAR_NDT_SENSOR_PRESETS overrides; installed, the share folder; in a build tree, the source's.
+  if (const char* env = std::getenv("RADAR_NDT_SENSOR_PRESETS"); env && *env) return env;
+  std::error_code ec;
+  if (fs::is_directory(RADAR_NDT_SENSOR_PRESETS_INSTALL, ec)) return RADAR_NDT_SENSOR_PRESETS_INSTALL;
+  return RADAR_NDT_SENSOR_PRESETS_BUILD;
+}
+
+std::vector<std::string> sensorPresets() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(sensorPresetDirectory(), ec))
+    if (e.path().extension() == ".yaml") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+SensorDescription readSensorDescription(const std::string& path) {
+  const std::string prefix = "preset:";
+  if (path.compare(0, prefix.size(), prefix) == 0) {
+    const std::string name = path.substr(prefix.size());
+    const std::vector<std::string> presets = sensorPresets();
+    if (std::find(presets.begin(), presets.end(), name) == presets.end()) {
+      std::string list;
+      for (const auto& p : presets) list += (list.empty() ? "" : ", ") + p;
+      throw IoError(path, "no such preset (presets in " + sensorPresetDirectory() + ": " + list + ")");
+    }
+    SensorDescription d = readSensorDescription(sensorPresetDirectory() + "/" + name + ".yaml");
+    return d;
+  }
+  return parseSensorDescription(detail::readWholeFile(path), path);
+}
+
+}  // namespace radar_ndt

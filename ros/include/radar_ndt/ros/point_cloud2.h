@@ -1,0 +1,29 @@
+#pragma once
+// A sensor_msgs/PointCloud2's fields read by name, as the table of doubles the radar point
+// conversion takes (radar_ndt/io/radar_point_fields.h): any field order, offsets and datatype,
+// either byte order, organised or not. A malformed message is an error saying what is wrong.
+
+#include <string>
+#include <vector>
+
+#include <sensor_msgs/PointCloud2.h>
+
+namespace radar_ndt {
+namespace ros1 {
+
+struct CloudColumns {
+  std::size_t points = 0;
+  std::vector<double> table;  ///< row-major: one row a point, one column a requested field
+  std::vector<char> present;  ///< per requested field: whether the message has it
+};
+
+/// Reads the fields `names` of every point (NaN where a field is absent). Throws
+/// std::invalid_argument naming the problem: a data size that disagrees with width, height and
+/// point_step, a field beyond the point, an unknown datatype.
+CloudColumns readCloudColumns(const sensor_msgs::PointCloud2& cloud, const std::vector<std::string>& names);
+
+/// "x, y, z, intensity": the message's field names, for messages.
+std::string fieldNames(const sensor_msgs::PointCloud2& cloud);
+
+}  // namespace ros1
+}  // namespace radar_ndt

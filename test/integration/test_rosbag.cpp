@@ -1,0 +1,244 @@
+// ROS 1 bags: a nuScenes scene written as a bag and run through the preset gives the scene's own
+// trajectory to the last bit; the real rio bag (a TI radar's driver with zero stamps) is read as it
+// is; bad bags and bad clouds give errors that say what is wrong.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <rosbag/bag.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include "radar_ndt/io/io_error.h"
+#include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/sensor_description.h"
+#include "radar_ndt/odometry/matcher.h"
+#include "radar_ndt/pipeline/automotive_run.h"
+#include "radar_ndt/ros/nuscenes_bag.h"
+#include "radar_ndt/ros/point_cloud2.h"
+#include "radar_ndt/ros/rosbag_sequence.h"
+
+using namespace radar_ndt;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kNuScenes = std::string(RADAR_NDT_SHARED_DATA) + "/nuscenes-mini-radar";
+const std::string kRio = std::string(RADAR_NDT_SHARED_DATA) + "/ros-rio-ti-mmwave/ti_mmwave_rospkg_demo.bag";
+
+std::string tempPath(const std::string& name) {
+  const fs::path dir = fs::path(::testing::TempDir()) / "radar_ndt_rosbag";
+  fs::create_directories(dir);
+  return (dir / name).string();
+}
+
+/// Expects an IoError whose message holds every fragment.
+template <typename Fn>
+void expectIoError(Fn&& fn, const std::vector<std::string>& fragments) {
+  try {
+    fn();
+    ADD_FAILURE() << "expected an IoError holding " << fragments.front();
+  } catch (const IoError& e) {
+    for (const auto& f : fragments) EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+  }
+}
+
+/// A cloud with float32 fields x y z velocity, one point a row of `values`.
+sensor_msgs::PointCloud2 cloudOf(const std::vector<std::array<float, 4>>& values, bool big_endian = false) {
+  sensor_msgs::PointCloud2 c;
+  const char* names[] = {"x", "y", "z", "velocity"};
+  for (std::uint32_t i = 0; i < 4; ++i) {
+    sensor_msgs::PointField f;
+    f.name = names[i];
+    f.offset = 4 * i;
+    f.datatype = sensor_msgs::PointField::FLOAT32;
+    f.count = 1;
+    c.fields.push_back(f);
+  }
+  c.height = 1;
+  c.width = static_cast<std::uint32_t>(values.size());
+  c.point_step = 16;
+  c.row_step = 16 * c.width;
+  c.is_bigendian = big_endian;
+  c.data.resize(c.row_step);
+  for (std::size_t i = 0; i < values.size(); ++i)
+    for (std::size_t k = 0; k < 4; ++k) {
+      std::uint8_t b[4];
+      std::memcpy(b, &values[i][k], 4);
+      if (big_endian) std::reverse(b, b + 4);
+      std::memcpy(&c.data[16 * i + 4 * k], b, 4);
+    }
+  return c;
+}
+
+const char* const kOneRadar = R"(
+radars:
+  - name: front
+    topic: /front
+    mounting: {x: 3.6}
+    fields: {doppler: {radial: velocity}}
+)";
+
+/// A bag of `n` clouds on /front, 10 Hz, made by `make(i)`.
+std::string writeBag(const std::string& name, std::size_t n,
+                     const std::function<sensor_msgs::PointCloud2(std::size_t)>& make) {
+  const std::string path = tempPath(name);
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  for (std::size_t i = 0; i < n; ++i) {
+    sensor_msgs::PointCloud2 c = make(i);
+    c.header.stamp = ros::Time(100.0 + 0.1 * static_cast<double>(i));
+    bag.write("/front", c.header.stamp, c);
+  }
+  bag.close();
+  return path;
+}
+
+}  // namespace
+
+// Done when: `--format rosbag` on a bag written from each shared scene gives the same trajectory as
+// `--format nuscenes` on the scene, bit for bit (here through the library, every scene, with and
+// without the car's gyro; compressed chunks too).
+TEST(Rosbag, ASceneWrittenAsABagRunsToTheScenesTrajectoryBitForBit) {
+  if (!fs::exists(kNuScenes)) GTEST_SKIP() << "no " << kNuScenes << " (../shared/data is absent)";
+  const NuScenesDataset dataset(kNuScenes);
+  const SensorDescription preset = readSensorDescription("preset:nuscenes_ars408");
+  for (const NuScenesScene& scene : dataset.scenes()) {
+    const bool compressed = scene.name == dataset.scenes().front().name;
+    const std::string path = tempPath(scene.name + ".bag");
+    ros1::writeNuScenesBag(dataset, scene, path, compressed ? ros1::BagCompression::Lz4 : ros1::BagCompression::None);
+    const ros1::RosbagRadarSequence bag(path, preset);
+    const NuScenesRadarSequence direct(dataset, scene);
+    EXPECT_EQ(bag.size(), direct.size());
+    EXPECT_EQ(bag.referenceChannel(), direct.referenceChannel());
+    for (const bool gyro : {false, true}) {
+      AutomotiveRunOptions options;
+      options.threads = 1;
+      options.odometry.car.gyro = gyro;
+      const AutomotiveRunResult from_scene = runAutomotiveOdometry(dataset, scene, options);
+      const AutomotiveRunResult from_bag = runAutomotiveOdometry(
+          AutomotiveInputs{bag, gyro ? bag.vehicleSignals() : nullptr, {}}, options, makeMatcher(options.matcher));
+      ASSERT_EQ(from_bag.estimate.size(), from_scene.estimate.size()) << scene.name;
+      for (std::size_t k = 0; k < from_bag.estimate.size(); ++k) {
+        ASSERT_EQ(from_bag.estimate.stamps[k], from_scene.estimate.stamps[k]) << scene.name << " " << k;
+        ASSERT_TRUE(from_bag.estimate.poses[k].matrix() == from_scene.estimate.poses[k].matrix())
+            << scene.name << " cycle " << k << (gyro ? " with the gyro" : "");
+      }
+      // The ground truth from /tf is the scene's ego poses.
+      ASSERT_EQ(from_bag.ground_truth.size(), from_scene.ground_truth.size());
+      for (std::size_t k = 0; k < from_bag.ground_truth.size(); ++k)
+        ASSERT_TRUE(from_bag.ground_truth.poses[k].matrix() == from_scene.ground_truth.poses[k].matrix());
+    }
+  }
+}
+
+// The real bag of a TI IWR6843 driver (ti_mmwave_rospkg 3.3.0): zero header stamps and no frame id,
+// x y z intensity velocity as float32, an IMU at about 200 Hz.
+TEST(Rosbag, TheRealRioBagIsReadAsTheDriverWroteIt) {
+  if (!fs::exists(kRio)) GTEST_SKIP() << "no " << kRio << " (../shared/data is absent)";
+  const ros1::RosbagRadarSequence bag(kRio, readSensorDescription("preset:ti_iwr6843_rio"));
+  EXPECT_EQ(bag.stats().radar_messages, 412u);
+  EXPECT_EQ(bag.stats().unreadable_messages, 0u);
+  EXPECT_EQ(bag.stats().imu_messages, 8270u);
+  EXPECT_EQ(bag.size(), 412u);  // one radar: a cycle a scan
+  EXPECT_NEAR(bag.periodSeconds(), 0.1, 0.01);
+  // The zero stamps: the receive times, said once.
+  ASSERT_FALSE(bag.problems().empty());
+  EXPECT_NE(bag.problems()[0].find("header stamps are 0"), std::string::npos) << bag.problems()[0];
+  EXPECT_GT(bag.timestamp(0), 1632233878000000);  // 2021-09-21, not 1970
+  std::size_t points = 0;
+  for (std::size_t k = 0; k < bag.size(); ++k) {
+    const RadarCycle c = bag.load(k);
+    ASSERT_EQ(c.sweeps.size(), 1u);
+    for (const PointRadar& p : c.sweeps[0].points) {
+      EXPECT_LE(std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z), 20.0f);
+      EXPECT_TRUE(std::isfinite(p.doppler));
+    }
+    points += c.sweeps[0].points.size();
+  }
+  EXPECT_GT(points, 412u * 20);  // 30-50 points a scan
+  ASSERT_TRUE(bag.vehicleSignals());
+  EXPECT_EQ(bag.vehicleSignals()->yaw_rate.size(), 8270u);
+  EXPECT_TRUE(bag.groundTruthTrajectory().empty());  // no ground truth in this recording
+}
+
+TEST(Rosbag, CloudFieldsAreReadByNameInEitherByteOrder) {
+  for (const bool big : {false, true}) {
+    const auto c = cloudOf({{1, 2, 3, -0.5f}, {4, 5, 6, 0.25f}}, big);
+    const ros1::CloudColumns cols = ros1::readCloudColumns(c, {"velocity", "x", "nope"});
+    ASSERT_EQ(cols.points, 2u);
+    EXPECT_EQ(cols.present, (std::vector<char>{1, 1, 0}));
+    EXPECT_EQ(cols.table[0], -0.5);
+    EXPECT_EQ(cols.table[1], 1.0);
+    EXPECT_TRUE(std::isnan(cols.table[2]));
+    EXPECT_EQ(cols.table[3], 0.25);
+    EXPECT_EQ(cols.table[4], 4.0);
+  }
+  auto truncated = cloudOf({{1, 2, 3, 4}});
+  truncated.data.resize(10);
+  EXPECT_THROW(ros1::readCloudColumns(truncated, {"x"}), std::invalid_argument);
+  auto beyond = cloudOf({{1, 2, 3, 4}});
+  beyond.fields[3].offset = 14;
+  EXPECT_THROW(ros1::readCloudColumns(beyond, {"velocity"}), std::invalid_argument);
+}
+
+TEST(Rosbag, BadBagsSayWhatIsWrong) {
+  const SensorDescription one = parseSensorDescription(kOneRadar, "one.yaml");
+  expectIoError([&] { ros1::RosbagRadarSequence(tempPath("no_such.bag"), one); }, {"no_such.bag", "no such bag"});
+  // Not a bag at all.
+  const std::string text = tempPath("text.bag");
+  std::ofstream(text) << "not a bag\n";
+  expectIoError([&] { ros1::RosbagRadarSequence(text, one); }, {"text.bag", "not a readable ROS 1 bag"});
+  // A recording cut off: no index at its end.
+  const std::string good = writeBag("good.bag", 30, [](std::size_t i) {
+    return cloudOf({{10, 0, 0, -1}, {0, 10, 0, 0}, {-10, 1, 0, 1}, {5, 5, 0, float(i % 3)}});
+  });
+  const std::string cut = tempPath("cut.bag");
+  fs::copy_file(good, cut, fs::copy_options::overwrite_existing);
+  fs::resize_file(cut, fs::file_size(good) * 2 / 3);
+  expectIoError([&] { ros1::RosbagRadarSequence(cut, one); }, {"cut.bag", "rosbag reindex"});
+  // A topic the description names that the bag lacks, and a topic of the wrong type.
+  SensorDescription other = one;
+  other.radars[0].topic = "/rear";
+  expectIoError([&] { ros1::RosbagRadarSequence(good, other); }, {"/rear", "not in the bag", "/front"});
+  SensorDescription imu = one;
+  imu.imu_topic = "/front";
+  expectIoError([&] { ros1::RosbagRadarSequence(good, imu); }, {"imu topic /front", "sensor_msgs/PointCloud2"});
+  // Fields the description names that no cloud has.
+  SensorDescription fields = one;
+  fields.radars[0].fields.radial = "doppler";
+  expectIoError([&] { ros1::RosbagRadarSequence(good, fields); }, {"no field 'doppler'", "x, y, z, velocity"});
+  // Without a mounting and with clouds that name no frame.
+  SensorDescription unmounted = one;
+  unmounted.radars[0].mounting.reset();
+  expectIoError([&] { ros1::RosbagRadarSequence(good, unmounted); }, {"no mounting"});
+  // The good bag reads.
+  const ros1::RosbagRadarSequence ok(good, one);
+  EXPECT_EQ(ok.size(), 30u);
+}
+
+// One bad frame is said and left out; the run goes on. NaN points are dropped and counted.
+TEST(Rosbag, ABadCloudOrNaNPointsAreSaidAndTheRunGoesOn) {
+  const std::string path = writeBag("mixed.bag", 20, [](std::size_t i) {
+    if (i == 5) {  // a malformed cloud: data shorter than its points
+      auto c = cloudOf({{1, 2, 3, 4}, {1, 2, 3, 4}});
+      c.data.resize(20);
+      return c;
+    }
+    return cloudOf({{10, 0, 0, -1}, {0, 10, 0, 0}, {NAN, 1, 0, 1}, {5, 5, 0, 0.5f}});
+  });
+  const ros1::RosbagRadarSequence bag(path, parseSensorDescription(kOneRadar, "one.yaml"));
+  EXPECT_EQ(bag.size(), 19u);
+  EXPECT_EQ(bag.stats().unreadable_messages, 1u);
+  EXPECT_EQ(bag.stats().non_finite_dropped, 19u);
+  bool said = false;
+  for (const auto& p : bag.problems())
+    said = said || (p.find("/front at 100.5") != std::string::npos && p.find("truncated") != std::string::npos);
+  EXPECT_TRUE(said) << "the malformed cloud is named with its time";
+  std::vector<std::string> problems;
+  const RadarCycle c = bag.load(0, &problems);
+  EXPECT_EQ(c.sweeps.at(0).points.size(), 3u);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_NE(problems[0].find("NaN"), std::string::npos);
+}

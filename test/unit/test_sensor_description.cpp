@@ -1,0 +1,203 @@
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+#include "radar_ndt/io/io_error.h"
+#include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/sensor_description.h"
+
+using namespace radar_ndt;
+
+namespace {
+
+/// Expects an IoError naming `source`, the key and the problem, on `line` (0: any).
+void expectError(const std::string& yaml, const std::string& key, const std::string& problem, std::size_t line = 0) {
+  try {
+    parseSensorDescription(yaml, "my_radar.yaml");
+    ADD_FAILURE() << "expected an error for:\n" << yaml;
+  } catch (const IoError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("my_radar.yaml"), std::string::npos) << msg;
+    EXPECT_NE(msg.find(key), std::string::npos) << msg;
+    EXPECT_NE(msg.find(problem), std::string::npos) << msg << " (wanted: " << problem << ")";
+    if (line) {
+      EXPECT_EQ(e.line(), line) << msg;
+    }
+  }
+}
+
+const char* const kMinimal = R"(
+radars:
+  - topic: /radar
+    fields: {doppler: {radial: v}}
+)";
+
+}  // namespace
+
+TEST(SensorDescription, AMinimalFileTakesTheDefaults) {
+  const SensorDescription d = parseSensorDescription(kMinimal, "my_radar.yaml");
+  ASSERT_EQ(d.radars.size(), 1u);
+  const RadarDescription& r = d.radars[0];
+  EXPECT_EQ(r.name, "/radar");  // named by its topic
+  EXPECT_EQ(r.kind, RadarKind::PointCloud);
+  EXPECT_FALSE(r.mounting);  // from the recording's TF
+  EXPECT_EQ(r.fields.doppler, DopplerKind::Radial);
+  EXPECT_EQ(r.fields.radial, "v");
+  EXPECT_EQ(r.fields.radial_sign, 1.0);
+  EXPECT_EQ(r.fields.accuracy, AccuracyKind::Model);
+  EXPECT_EQ(r.fields.x, "x");
+  EXPECT_EQ(d.stamps, StampSource::Auto);
+  EXPECT_EQ(d.base_frame, "base_link");
+  EXPECT_TRUE(d.imu_topic.empty());
+  EXPECT_TRUE(d.ground_truth_topic.empty());
+}
+
+TEST(SensorDescription, EveryKeyIsRead) {
+  const SensorDescription d = parseSensorDescription(R"(
+name: my car
+base_frame: vehicle
+stamps: receive
+imu: /imu/data
+ground_truth: {topic: /gt, parent: world, child: vehicle}
+reference: front
+radars:
+  - name: front
+    topic: /front/points
+    frame: front_radar
+    mounting: {x: 3.5, y: -0.2, z: 0.6, yaw: 0.1}
+    fields:
+      position: [px, py]
+      doppler: {radial: vr, sign: approaching}
+      rcs: rcs_dbsm
+      power: snr
+      accuracy: {fixed: [0.25, 0.5]}
+      max_range: 80
+      keep: {quality: [1, 2]}
+)",
+                                                     "my_radar.yaml");
+  EXPECT_EQ(d.name, "my car");
+  EXPECT_EQ(d.base_frame, "vehicle");
+  EXPECT_EQ(d.stamps, StampSource::Receive);
+  EXPECT_EQ(d.imu_topic, "/imu/data");
+  EXPECT_EQ(d.ground_truth_topic, "/gt");
+  EXPECT_EQ(d.ground_truth_parent, "world");
+  EXPECT_EQ(d.reference, "front");
+  const RadarDescription& r = d.radars.at(0);
+  EXPECT_EQ(r.frame, "front_radar");
+  ASSERT_TRUE(r.mounting);
+  EXPECT_NEAR(r.mounting->transform().translation().x(), 3.5, 0);
+  EXPECT_NEAR(Eigen::AngleAxisd(r.mounting->transform().linear()).angle(), 0.1, 1e-12);
+  EXPECT_EQ(r.fields.x, "px");
+  EXPECT_EQ(r.fields.z, "");  // planar: no z field
+  EXPECT_EQ(r.fields.radial_sign, -1.0);
+  EXPECT_EQ(r.fields.rcs, "rcs_dbsm");
+  EXPECT_EQ(r.fields.power, "snr");
+  EXPECT_EQ(r.fields.accuracy, AccuracyKind::Fixed);
+  EXPECT_EQ(r.fields.sigma_y, 0.5);
+  EXPECT_EQ(r.fields.max_range, 80);
+  ASSERT_EQ(r.fields.keep.size(), 1u);
+  EXPECT_EQ(r.fields.keep[0].first, "quality");
+  EXPECT_EQ(r.fields.keep[0].second, (std::vector<int>{1, 2}));
+}
+
+TEST(SensorDescription, ABadFileNamesTheKeyAndTheLine) {
+  expectError("radars: [", "", "not valid YAML");
+  expectError("", "", "empty");
+  expectError("radar: []\n", "radar", "unknown key", 1);
+  expectError("radars: []\n", "radars", "at least one radar");
+  expectError("radars:\n  - fields: {doppler: none}\n", "radars[0]", "missing key 'topic'");
+  expectError("radars:\n  - topic: /r\n", "radars[0]", "missing key 'fields'");
+  expectError("radars:\n  - topic: /r\n    fields: {position: [x, y]}\n", "radars[0].fields", "missing key 'doppler'");
+  expectError("radars:\n  - topic: /r\n    fields:\n      doppler: {radial: v, sign: up}\n",
+              "radars[0].fields.doppler.sign", "'receding'", 4);
+  expectError("radars:\n  - topic: /r\n    fields: {doppler: {vx: a}}\n", "radars[0].fields.doppler",
+              "both 'vx' and 'vy'");
+  expectError("radars:\n  - topic: /r\n    fields: {doppler: {radial: v}, max_range: -3}\n",
+              "radars[0].fields.max_range", "> 0");
+  expectError("radars:\n  - topic: /r\n    fields: {doppler: {radial: v}, max_range: far}\n",
+              "radars[0].fields.max_range", "not a finite number");
+  expectError("radars:\n  - topic: /r\n    fields: {doppler: {radial: v}, accuracy: {fixed: [0.1]}}\n",
+              "radars[0].fields.accuracy.fixed", "list of two");
+  expectError("radars:\n  - topic: /r\n    fields: {doppler: {radial: v}, keep: {q: [1.5]}}\n",
+              "radars[0].fields.keep.q[0]", "not an integer");
+  expectError("radars:\n  - topic: /r\n    mounting: {x: 1, yaww: 2}\n    fields: {doppler: {radial: v}}\n",
+              "radars[0].mounting.yaww", "unknown key");
+  expectError(
+      "radars:\n  - {topic: /a, fields: {doppler: {radial: v}}}\n  - {topic: /a, name: b, fields: {doppler: {radial: "
+      "v}}}\n",
+      "radars[1]", "second radar on topic");
+  expectError(std::string(kMinimal) + "reference: rear\n", "reference", "none of the radars");
+  expectError(std::string(kMinimal) + "stamps: gps\n", "stamps", "header, receive or auto");
+}
+
+TEST(SensorDescription, AMissingFileOrPresetIsNamed) {
+  EXPECT_THROW(readSensorDescription(::testing::TempDir() + "no_such.yaml"), IoError);
+  try {
+    readSensorDescription("preset:no_such_radar");
+    ADD_FAILURE();
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("nuscenes_ars408"), std::string::npos) << e.what();  // lists the presets
+  }
+}
+
+// Every preset reads; the nuScenes one describes exactly what the nuScenes PCD reader keeps, so a
+// bag of a scene gives the scene's detections.
+TEST(SensorDescription, ThePresetsReadAndTheNuScenesOneIsTheReadersFields) {
+  const std::vector<std::string> presets = sensorPresets();
+  ASSERT_GE(presets.size(), 2u) << sensorPresetDirectory();
+  for (const std::string& p : presets) EXPECT_NO_THROW(readSensorDescription("preset:" + p)) << p;
+  const SensorDescription d = readSensorDescription("preset:nuscenes_ars408");
+  ASSERT_EQ(d.radars.size(), 5u);
+  const RadarPointFields ref = nuScenesArs408Fields(NuScenesRadarFilter{});
+  for (const RadarDescription& r : d.radars) {
+    const auto cols = r.fields.columns(), ref_cols = ref.columns();
+    EXPECT_EQ(std::vector<std::string>(cols.begin(), cols.begin() + 8),
+              std::vector<std::string>(ref_cols.begin(), ref_cols.begin() + 8))
+        << r.name;
+    EXPECT_EQ(r.fields.max_range, ref.max_range);
+    EXPECT_EQ(r.fields.accuracy, AccuracyKind::Ars408Rms);
+    ASSERT_EQ(r.fields.keep.size(), 2u);  // dyn_prop keeps all: left out of the preset
+    EXPECT_EQ(r.fields.keep[0], ref.keep[0]);
+    EXPECT_EQ(r.fields.keep[1], ref.keep[2]);
+    EXPECT_EQ(r.topic, "/" + r.name);
+  }
+  EXPECT_EQ(d.radars[0].name, "RADAR_FRONT");  // sensor.json's order: the channel indices agree
+}
+
+// The conversion of named fields: Doppler from a radial field with either sign, or from the
+// velocity's components; the accuracy models; the keep lists; NaN points dropped.
+TEST(SensorDescription, RadarPointsFromNamedFields) {
+  RadarPointFields f;
+  f.z = "";
+  f.doppler = DopplerKind::Radial;
+  f.radial = "v";
+  f.accuracy = AccuracyKind::Fixed;
+  f.sigma_x = 0.2;
+  f.sigma_y = 0.4;
+  f.keep = {{"q", {1}}};
+  ASSERT_EQ(f.columns(), (std::vector<std::string>{"x", "y", "", "v", "q"}));
+  const std::vector<double> table{3,   4, 0, 2.0, 1,   // kept
+                                  3,   4, 0, 2.0, 0,   // dropped by q
+                                  NAN, 4, 0, 1,   1,   // dropped: not finite
+                                  300, 0, 0, 1,   1};  // beyond 150 m
+  RadarPointStats stats;
+  auto cloud = convertRadarPoints(table, 4, {1, 1, 0, 1, 1}, f, 7, &stats);
+  ASSERT_EQ(cloud.size(), 1u);
+  EXPECT_EQ(cloud[0].doppler, 2.0f);
+  EXPECT_EQ(cloud[0].z, 0.0f);
+  EXPECT_EQ(cloud[0].sensor_id, 7);
+  EXPECT_FLOAT_EQ(cloud[0].cov_yy, 0.16f);
+  EXPECT_EQ(stats.dropped_non_finite, 1u);
+  EXPECT_EQ(stats.dropped_by_filter, 2u);
+  f.radial_sign = -1.0;  // a driver whose approaching targets are positive
+  EXPECT_EQ(convertRadarPoints(table, 1, {1, 1, 0, 1, 1}, f, 0)[0].doppler, -2.0f);
+  // The velocity's components: the radial part along the ray (3, 4)/5.
+  f.doppler = DopplerKind::Components;
+  f.keep.clear();
+  f.accuracy = AccuracyKind::Model;
+  ASSERT_EQ(f.columns(), (std::vector<std::string>{"x", "y", "", "vx", "vy"}));
+  cloud = convertRadarPoints({3, 4, 0, 1, 2}, 1, {1, 1, 0, 1, 1}, f, 0);
+  EXPECT_FLOAT_EQ(cloud[0].doppler, (3 * 1 + 4 * 2) / 5.0f);
+  EXPECT_EQ(cloud[0].cov_xx, 0.0f);  // the front-end's model
+}

@@ -28,7 +28,8 @@ find_package_handle_standard_args(ROS1 REQUIRED_VARS
   ROS1_TF2_MSGS_INCLUDE_DIR ROS1_PLUGINLIB_INCLUDE_DIR ROS1_CLASS_LOADER_INCLUDE_DIR
   ROS1_AMENT_INDEX_INCLUDE_DIR ROS1_RCUTILS_INCLUDE_DIR ROS1_RCPPUTILS_INCLUDE_DIR
   ROS1_rosbag_storage_LIBRARY ROS1_roscpp_serialization_LIBRARY ROS1_rostime_LIBRARY
-  ROS1_cpp_common_LIBRARY ROS1_console_bridge_LIBRARY ROS1_roscpp_LIBRARY ROS1_rosconsole_LIBRARY)
+  ROS1_cpp_common_LIBRARY ROS1_console_bridge_LIBRARY ROS1_roscpp_LIBRARY ROS1_rosconsole_LIBRARY
+  ROS1_xmlrpcpp_LIBRARY)
 if(ROS1_FOUND AND NOT TARGET ROS1::rosbag)
   find_package(Boost REQUIRED COMPONENTS filesystem)
   add_library(ROS1::rosbag INTERFACE IMPORTED)
@@ -38,6 +39,6 @@ if(ROS1_FOUND AND NOT TARGET ROS1::rosbag)
   # The message headers use the system include path, where they already are.
   add_library(ROS1::roscpp INTERFACE IMPORTED)
   set_target_properties(ROS1::roscpp PROPERTIES
-    INTERFACE_LINK_LIBRARIES "ROS1::rosbag;${ROS1_roscpp_LIBRARY};${ROS1_rosconsole_LIBRARY}")
+    INTERFACE_LINK_LIBRARIES "ROS1::rosbag;${ROS1_roscpp_LIBRARY};${ROS1_rosconsole_LIBRARY};${ROS1_xmlrpcpp_LIBRARY}")
 endif()
 mark_as_advanced(ROS1_ROSBAG_INCLUDE_DIR ROS1_ROSCPP_INCLUDE_DIR ROS1_MSGS_INCLUDE_DIR)

@@ -16,6 +16,7 @@
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/odometry/matcher.h"
 #include "radar_ndt/pipeline/automotive_run.h"
+#include "radar_ndt/ros/live_cycles.h"
 #include "radar_ndt/ros/nuscenes_bag.h"
 #include "radar_ndt/ros/point_cloud2.h"
 #include "radar_ndt/ros/rosbag_sequence.h"
@@ -241,4 +242,41 @@ TEST(Rosbag, ABadCloudOrNaNPointsAreSaidAndTheRunGoesOn) {
   EXPECT_EQ(c.sweeps.at(0).points.size(), 3u);
   ASSERT_EQ(problems.size(), 1u);
   EXPECT_NE(problems[0].find("NaN"), std::string::npos);
+}
+
+namespace {
+RadarSweepData sweepAt(std::int64_t t_us, std::uint16_t channel) {
+  RadarSweepData s;
+  s.timestamp_us = t_us;
+  s.sensor_id = channel;
+  return s;
+}
+}  // namespace
+
+// The node's cycles as they arrive: the offline planner's rule, a cycle handed out once the other
+// radars have moved past it (so a radar's sweep that comes after the reference's is not missed), a
+// silent radar not waited for, late and repeated sweeps refused, a reset for a bag played again.
+TEST(LiveCycles, PlansAsTheOfflinePlannerAsSweepsArrive) {
+  ros1::LiveCycles live(0, 100000);
+  EXPECT_EQ(live.add(sweepAt(1000000, 0)), ros1::LiveCycles::Added::Taken);
+  EXPECT_EQ(live.add(sweepAt(950000, 1)), ros1::LiveCycles::Added::Taken);
+  EXPECT_FALSE(live.next()) << "radar 1 may still send a sweep up to t_ref";
+  EXPECT_EQ(live.add(sweepAt(990000, 1)), ros1::LiveCycles::Added::Taken);  // arrives after the reference's
+  EXPECT_FALSE(live.next());
+  EXPECT_EQ(live.add(sweepAt(1030000, 1)), ros1::LiveCycles::Added::Taken);
+  auto c = live.next();
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c->timestamp_us, 1000000);
+  ASSERT_EQ(c->sweeps.size(), 2u);
+  EXPECT_EQ(c->sweeps[1].timestamp_us, 990000) << "the latest within the period before";
+  EXPECT_EQ(live.add(sweepAt(995000, 1)), ros1::LiveCycles::Added::Late);
+  EXPECT_EQ(live.add(sweepAt(1030000, 1)), ros1::LiveCycles::Added::Repeated);
+  // Radar 1 falls silent: after a second of the stream the cycles go on without it.
+  for (int k = 1; k <= 13; ++k) live.add(sweepAt(1000000 + 100000 * k, 0));
+  std::size_t out = 0;
+  while (auto next = live.next()) ++out;
+  EXPECT_GE(out, 1u);
+  EXPECT_EQ(live.flush().size() + out, 13u);
+  live.reset();
+  EXPECT_EQ(live.add(sweepAt(500000, 0)), ros1::LiveCycles::Added::Taken) << "after a reset, earlier times are taken";
 }

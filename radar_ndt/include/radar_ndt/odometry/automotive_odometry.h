@@ -129,6 +129,10 @@ class AutomotiveOdometry {
   /// Whether the car's sensors make the prior (CarFusion).
   bool usesCar() const { return signals_ && options_.car.any(); }
 
+  /// CycleToMap's local map: the last cycles in the newest cycle's vehicle frame (what a ROS node
+  /// publishes as its local map).
+  const LocalMap& localMap() const { return map_; }
+
   const std::vector<OdometryStep>& steps() const { return log_.steps(); }
   const OdometryCounters& counters() const { return log_.counters(); }
   const AutomotiveOdometryOptions& options() const { return options_; }

@@ -1,0 +1,118 @@
+"""The ROS node with a real master: a bag of a nuScenes scene played with `rosbag play`, the
+published odometry recorded with `rosbag record`, compared with the offline run of the same bag.
+
+Environment: RADAR_NDT_BIN (the build's apps folder), RADAR_NDT_SHARED_DATA (../shared/data).
+Skips when the data or Debian's ROS 1 tools are absent."""
+import os
+import shutil
+import socket
+import subprocess
+import time
+
+import numpy as np
+import pytest
+
+BIN = os.environ.get("RADAR_NDT_BIN", "build/apps")
+DATA = os.environ.get("RADAR_NDT_SHARED_DATA", "../shared/data")
+SCENE = "scene-0103"
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="module")
+def ros_env(tmp_path_factory):
+    for tool in ("roscore", "rosbag"):
+        if not shutil.which(tool):
+            pytest.skip(f"{tool} not found (Debian's ROS 1: bash .ci/deps)")
+    if not os.path.isdir(os.path.join(DATA, "nuscenes-mini-radar")):
+        pytest.skip(f"no {DATA}/nuscenes-mini-radar (../shared/data is absent)")
+    work = tmp_path_factory.mktemp("ros")
+    env = dict(os.environ)
+    port = free_port()
+    env["ROS_MASTER_URI"] = f"http://127.0.0.1:{port}"
+    env["ROS_HOSTNAME"] = "127.0.0.1"
+    env["ROS_HOME"] = str(work / "ros_home")
+    master = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
+                              stderr=subprocess.DEVNULL)
+    try:
+        for _ in range(100):  # the master answers
+            if subprocess.run(["rosparam", "list"], env=env, capture_output=True).returncode == 0:
+                break
+            time.sleep(0.2)
+        else:
+            pytest.fail("the ROS master did not start")
+        yield env, work
+    finally:
+        master.terminate()
+        master.wait(timeout=20)
+
+
+def write_bag(work):
+    subprocess.run([f"{BIN}/radar_nuscenes_to_bag", "--dataroot", f"{DATA}/nuscenes-mini-radar", "--scene", SCENE,
+                    "--out", str(work)], check=True, capture_output=True)
+    return str(work / f"{SCENE}.bag")
+
+
+def offline(bag, work):
+    out = work / "offline.tum"
+    subprocess.run([f"{BIN}/radar_odometry", "--format", "rosbag", "--bag", bag, "--sensors",
+                    "preset:nuscenes_ars408", "--out", str(out), "-q"], check=True, capture_output=True)
+    return np.loadtxt(out)
+
+
+def reference_period(bag):
+    """The offline planner's window: the median interval of the reference radar's sweeps (µs)."""
+    import rosbag
+    with rosbag.Bag(bag) as b:
+        t = [m.header.stamp.to_nsec() // 1000 for _, m, _ in b.read_messages(topics=["/RADAR_FRONT"])]
+    return float(np.median(np.diff(sorted(t)))) * 1e-6
+
+
+def run_node(env, work, bag, rate, name):
+    recorded = work / f"{name}.bag"
+    node = subprocess.Popen([f"{BIN}/radar_ndt_node", "_sensors:=preset:nuscenes_ars408",
+                             f"_cycle_period:={reference_period(bag)}", "_flush_after:=1.0"],
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    record = subprocess.Popen(["rosbag", "record", "-O", str(recorded), "/radar_ndt/odometry", "/diagnostics"],
+                              env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    time.sleep(3)  # the node and the recorder subscribed
+    subprocess.run(["rosbag", "play", "-q", "-r", str(rate), bag, "--topics", "/RADAR_FRONT", "/RADAR_FRONT_LEFT",
+                    "/RADAR_FRONT_RIGHT", "/RADAR_BACK_LEFT", "/RADAR_BACK_RIGHT", "/tf", "/imu"],
+                   env=env, check=True, capture_output=True)
+    time.sleep(3)  # the last cycles flushed and recorded
+    record.send_signal(2)
+    record.wait(timeout=30)
+    node.send_signal(2)
+    out, _ = node.communicate(timeout=30)
+    import rosbag
+    poses, diag = [], []
+    with rosbag.Bag(str(recorded)) as b:
+        for topic, m, _ in b.read_messages():
+            if topic == "/radar_ndt/odometry":
+                p, q = m.pose.pose.position, m.pose.pose.orientation
+                poses.append([m.header.stamp.to_sec(), p.x, p.y, p.z, q.x, q.y, q.z, q.w])
+            else:
+                diag.append(m)
+    return np.array(poses), diag, out
+
+
+def test_played_bag_gives_the_offline_poses(ros_env):
+    env, work = ros_env
+    bag = write_bag(work)
+    expected = offline(bag, work)
+    for rate, name in ((1.0, "normal"), (10.0, "fast")):
+        poses, diag, out = run_node(env, work, bag, rate, name)
+        assert len(poses) == len(expected), f"{name}: {len(poses)} cycles published, {len(expected)} offline\n{out}"
+        assert np.allclose(poses[:, 0], expected[:, 0], atol=1e-6), name
+        # The same poses: the node runs the offline run's front-end and odometry on the same cycles.
+        d = np.abs(poses[:, 1:3] - expected[:, 1:3]).max(axis=1)
+        assert d.max() < 1e-6, f"{name}: first difference at cycle {np.argmax(d > 1e-6)}\n{out}"
+        yaw = lambda q: np.arctan2(2 * (q[:, 3] * q[:, 2] + q[:, 0] * q[:, 1]), 1 - 2 * (q[:, 1] ** 2 + q[:, 2] ** 2))
+        assert np.abs(np.unwrap(yaw(poses[:, 4:])) - np.unwrap(yaw(expected[:, 4:]))).max() < 1e-6, name
+        assert "latency" in out, out
+        print(name, out.strip().splitlines()[-1])
+        assert any(s.name.startswith("radar_ndt") for d in diag for s in d.status), "diagnostics published"

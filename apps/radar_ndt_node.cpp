@@ -2,7 +2,8 @@
 // radar topics of a sensor description, assembles cycles as they arrive (ros1::LiveCycles, the
 // offline planner's rule), runs the front-end and the odometry the offline run uses, and publishes
 // ~odometry (nav_msgs/Odometry with the match's covariance), the TF odom -> base_link (REP 105),
-// ~local_map (sensor_msgs/PointCloud2, the local map in base_link) and /diagnostics. Its parameters
+// ~local_map (sensor_msgs/PointCloud2, the local map in base_link), ~map (the stationary
+// detections in odom, as --map-out writes them, latched, every tenth cycle) and /diagnostics. Its parameters
 // are the run options' field table: ~odometry/submap_size, ~matcher/method, ... (one source with
 // the command line and Python).
 #include <sys/resource.h>
@@ -21,6 +22,7 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include "field_options.h"
+#include "radar_ndt/evaluation/point_map.h"
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/ros/live_cycles.h"
@@ -108,6 +110,7 @@ class Node {
     subs_.push_back(nh.subscribe<tf2_msgs::TFMessage>("/tf_static", 20, [this](const auto& m) { onTf(*m); }));
     odom_pub_ = pn.advertise<nav_msgs::Odometry>("odometry", 100);
     map_pub_ = pn.advertise<sensor_msgs::PointCloud2>("local_map", 5);
+    world_pub_ = pn.advertise<sensor_msgs::PointCloud2>("map", 1, true);
     tf_pub_ = nh.advertise<tf2_msgs::TFMessage>("/tf", 100);
     diag_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
     diag_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnose(); });
@@ -194,6 +197,7 @@ class Node {
       waiting_.clear();
       for (auto& s : channel_state_) s.last_us = -1;
       resetOdometry();
+      map_ = PointMap(0.2);
     }
     c.last_us = t;
     RadarSweepData sweep;
@@ -252,6 +256,7 @@ class Node {
       have_valid_ = true;
     }
     const OdometryStep& step = odometry_->add(processed);
+    map_.add(*processed.cloud, step.pose);
     publish(step, cycle.timestamp_us);
     ++cycles_;
     cpu_s_.push_back(cpuSeconds() - cpu0);
@@ -292,14 +297,17 @@ class Node {
     t.transform.rotation = o.pose.pose.orientation;
     tf.transforms.push_back(t);
     tf_pub_.publish(tf);
-    if (map_pub_.getNumSubscribers() > 0) publishMap(stamp);
+    if (map_pub_.getNumSubscribers() > 0) publishCloud(map_pub_, *odometry_->localMap().cloud(), stamp, d_.base_frame);
+    if (world_pub_.getNumSubscribers() > 0 && cycles_ % 10 == 0)
+      publishCloud(world_pub_, map_.cloud(), stamp, odom_frame_);
   }
 
-  void publishMap(const ros::Time& stamp) {
-    const auto cloud = odometry_->localMap().cloud();
+  static void publishCloud(ros::Publisher& pub, const pcl::PointCloud<PointRadar>& cloud_in, const ros::Time& stamp,
+                           const std::string& frame) {
+    const pcl::PointCloud<PointRadar>* cloud = &cloud_in;
     sensor_msgs::PointCloud2 m;
     m.header.stamp = stamp;
-    m.header.frame_id = d_.base_frame;
+    m.header.frame_id = frame;
     const char* names[] = {"x", "y", "z", "doppler"};
     for (std::uint32_t k = 0; k < 4; ++k) {
       sensor_msgs::PointField f;
@@ -319,7 +327,7 @@ class Node {
       const float v[4] = {(*cloud)[i].x, (*cloud)[i].y, (*cloud)[i].z, (*cloud)[i].doppler};
       std::memcpy(&m.data[16 * i], v, sizeof v);
     }
-    map_pub_.publish(m);
+    pub.publish(m);
   }
 
   void diagnose() {
@@ -381,7 +389,8 @@ class Node {
   std::vector<double> latency_s_, cpu_s_;
   std::size_t cycles_ = 0;
   std::vector<ros::Subscriber> subs_;
-  ros::Publisher odom_pub_, map_pub_, tf_pub_, diag_pub_;
+  ros::Publisher odom_pub_, map_pub_, world_pub_, tf_pub_, diag_pub_;
+  PointMap map_{0.2};  ///< every cycle's stationary detections in the odom frame, as --map-out
   ros::WallTimer diag_timer_, flush_timer_;
 };
 

@@ -14,6 +14,7 @@
 
 #include "app_common.h"
 #include "pipeline_options.h"
+#include "radar_ndt/evaluation/point_map.h"
 #include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/evaluation/run_report.h"
 #include "radar_ndt/evaluation/svg_plot.h"
@@ -36,7 +37,8 @@ namespace {
 
 /// What to write and print, the same for both pipelines.
 struct Outputs {
-  std::string out, out_format, steps, plot, map, metric;
+  std::string out, out_format, steps, plot, map, map_out, metric;
+  double map_voxel = 0.2;
   bool eval = false, json = false, progress = false;
   bool many = false;  ///< several scenes or sequences: file names get the run's name inserted
   /// The failure lines of runs mostly not matched (failureText), printed last; the exit code is 1.
@@ -104,6 +106,31 @@ int reportFailures(const Outputs& o) {
   return o.failures->empty() ? 0 : 1;
 }
 
+/// The maps a run asks for (--map: a top-view PNG; --map-out: a PCD of the points in the world
+/// frame) and the callback that fills them: every cycle's (moving detections removed), or every
+/// keyframe scan's. Written by write().
+struct RunMaps {
+  std::unique_ptr<TopViewMap> top;
+  std::unique_ptr<PointMap> points;
+  bool keyframes_only = false;
+  RunMaps(const Outputs& o, bool keyframes) : keyframes_only(keyframes) {
+    if (!o.map.empty()) top = std::make_unique<TopViewMap>(0.2);
+    if (!o.map_out.empty()) points = std::make_unique<PointMap>(o.map_voxel);
+  }
+  bool any() const { return top || points; }
+  std::function<void(std::size_t, const OdometryStep&, const pcl::PointCloud<PointRadar>&)> callback() {
+    if (!any()) return nullptr;
+    return [this](std::size_t k, const OdometryStep& step, const pcl::PointCloud<PointRadar>& cloud) {
+      if (top) top->add(cloud, step.pose);
+      if (points && (!keyframes_only || step.keyframe || k == 0)) points->add(cloud, step.pose);
+    };
+  }
+  void write(const Outputs& o) const {
+    if (top) top->writePng(o.map);
+    if (points) points->write(o.map_out);
+  }
+};
+
 int runAutomotive(const po::variables_map& vm, const Outputs& base) {
   const AutomotiveRunOptions options = apps::automotiveOptions(vm);
   const NuScenesDataset dataset = apps::openDataset(vm);
@@ -117,10 +144,15 @@ int runAutomotive(const po::variables_map& vm, const Outputs& base) {
     runs.push_back(finish(r, scenes[i]->name, o, report));
     if (report) reports.push_back(*report);
   };
-  if (scenes.size() == 1)  // one scene: its cycles on the pipeline, with a progress bar
-    finishScene(0, runAutomotiveOdometry(dataset, *scenes[0], options, apps::Progress{o.progress, scenes[0]->name}));
-  else  // several: the scenes side by side, reported in order
+  RunMaps maps(o, false);
+  if (maps.any() && scenes.size() > 1) throw std::invalid_argument("--map and --map-out take one --scene");
+  if (scenes.size() == 1) {  // one scene: its cycles on the pipeline, with a progress bar
+    finishScene(0, runAutomotiveOdometry(dataset, *scenes[0], options, apps::Progress{o.progress, scenes[0]->name},
+                                         maps.callback()));
+    maps.write(o);
+  } else {  // several: the scenes side by side, reported in order
     runAutomotiveScenes(dataset, scenes, options, finishScene, apps::Progress{o.progress, "scenes"});
+  }
   if (o.json) {
     printJson(runs, reports, "scenes");
   } else if (reports.size() > 1) {
@@ -182,7 +214,8 @@ int runScanning(const po::variables_map& vm, const Outputs& base) {
   const ScanFormat format = parseEnum<ScanFormat>(vm["format"].as<std::string>());
   Outputs o = base;
   o.many = dirs.size() > 1;
-  if (o.many && !o.map.empty()) throw std::invalid_argument("--map takes one --sequence");
+  if (o.many && (!o.map.empty() || !o.map_out.empty()))
+    throw std::invalid_argument("--map and --map-out take one --sequence");
   std::vector<json> runs;
   std::vector<EvaluationReport> reports;
   for (const std::string& dir : dirs) {
@@ -194,17 +227,10 @@ int runScanning(const po::variables_map& vm, const Outputs& base) {
           "--eval: " + dir +
           " has no ground truth (oxford: gt/radar_odometry.csv; boreas: applanix/radar_poses.csv; "
           "radiate has none)");
-    std::unique_ptr<TopViewMap> map;
-    ScanCallback on_scan;
-    if (!o.map.empty()) {
-      map = std::make_unique<TopViewMap>(0.2);
-      on_scan = [&map](std::size_t, const OdometryStep& step, const pcl::PointCloud<PointRadar>& cloud) {
-        map->add(cloud, step.pose);
-      };
-    }
+    RunMaps maps(o, true);
     const ScanningRunResult r =
-        runScanningOdometry(sequence, options, apps::Progress{o.progress, sequence.name()}, on_scan);
-    if (map) map->writePng(o.map);
+        runScanningOdometry(sequence, options, apps::Progress{o.progress, sequence.name()}, maps.callback());
+    maps.write(o);
     std::optional<EvaluationReport> report;
     runs.push_back(finish(r, sequence.name(), o, report));
     if (report) reports.push_back(*report);
@@ -235,7 +261,11 @@ po::options_description odometryOptions() {
      "runs: {\"scenes\"|\"sequences\": [...], \"mean\": {\"metrics\": ...}})")
     ("plot", po::value<std::string>(), "with --eval: SVG of estimate vs ground truth (one per scene or sequence)")
     ("map", po::value<std::string>(),
-     "scanning: write a top-view PNG of all scans at their estimated poses (0.2 m/pixel; one --sequence)")
+     "write a top-view PNG of all scans or cycles at their estimated poses (0.2 m/pixel; one --sequence or --scene)")
+    ("map-out", po::value<std::string>(),
+     "write the map as a PCD in the first pose's frame: the keyframe scans' points (scanning) or every "
+     "cycle's stationary detections (automotive), one point a voxel (one --sequence or --scene)")
+    ("map-voxel", po::value<double>()->default_value(0.2), "--map-out: the voxel's side (m); 0: every point")
     ("list-options", "print every pipeline option as a markdown table (the field it sets, its pipeline, meaning "
      "and default), then exit");
   // clang-format on
@@ -286,14 +316,15 @@ int main(int argc, char** argv) {
     o.steps = text("steps");
     o.plot = text("plot");
     o.map = text("map");
+    o.map_out = text("map-out");
+    o.map_voxel = vm["map-voxel"].as<double>();
     o.metric = text("metric");
     o.eval = vm["eval"].as<bool>();
     o.json = vm["json"].as<bool>();
     o.progress = !vm["quiet"].as<bool>() && isatty(STDERR_FILENO);
     parseTrajectoryFormat(o.out_format);  // a bad value fails before the run
     if (!o.metric.empty()) parseMetrics(o.metric);
-    if (!o.map.empty() && apps::pipelineOf(vm["format"].as<std::string>()) != apps::Pipeline::Scanning)
-      throw std::invalid_argument("--map is for the scanning pipeline (--format oxford|radiate|boreas)");
+    if (!(o.map_voxel >= 0)) throw std::invalid_argument("--map-voxel must be >= 0 (m)");
     if (vm["format"].as<std::string>() == "rosbag") return runRosbag(vm, o);
     return apps::pipelineOf(vm["format"].as<std::string>()) == apps::Pipeline::Automotive ? runAutomotive(vm, o)
                                                                                           : runScanning(vm, o);

@@ -60,9 +60,10 @@ MatchCalibration matchCalibrationOf(const std::string& method) {
 
 AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
                                           const AutomotiveRunOptions& options,
-                                          const std::function<void(std::size_t, std::size_t)>& progress) {
+                                          const std::function<void(std::size_t, std::size_t)>& progress,
+                                          const CycleCallback& on_cycle) {
   options.validate();
-  return runAutomotiveOdometry(dataset, scene, options, makeMatcher(options.matcher), progress);
+  return runAutomotiveOdometry(dataset, scene, options, makeMatcher(options.matcher), progress, on_cycle);
 }
 
 namespace {
@@ -156,6 +157,22 @@ std::string problemOf(const OdometryStep& step, const AutomotiveOdometryOptions&
          " each): the Doppler motion";
 }
 
+/// The result's description of the run, before its cycles: scene, method, reference radar, the
+/// inputs' problems first and then the radars' silences.
+AutomotiveRunResult startResult(const AutomotiveInputs& inputs, const AutomotiveRunOptions& options, bool uses_car) {
+  AutomotiveRunResult result;
+  result.scene = inputs.cycles.sceneName();
+  result.method = options.matcher.method;
+  result.submap_size = options.odometry.submap_size;
+  result.reference_channel = inputs.cycles.referenceChannel();
+  result.period_s = inputs.cycles.periodSeconds();
+  if (uses_car) result.prior = carPriorName(options.odometry.car);
+  result.problems = inputs.problems;
+  const auto& silences = inputs.cycles.silences();
+  result.problems.insert(result.problems.end(), silences.begin(), silences.end());
+  return result;
+}
+
 /// A method that is the car's own dead reckoning cannot run on a recording without the car's sensors.
 void checkCarInputs(const AutomotiveInputs& inputs, const AutomotiveRunOptions& options) {
   const MatcherUses& uses = findMatcher(options.matcher.method).uses;
@@ -168,34 +185,26 @@ void checkCarInputs(const AutomotiveInputs& inputs, const AutomotiveRunOptions& 
 
 AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
                                           const AutomotiveRunOptions& options, MatcherAdapter matcher,
-                                          const std::function<void(std::size_t, std::size_t)>& progress) {
+                                          const std::function<void(std::size_t, std::size_t)>& progress,
+                                          const CycleCallback& on_cycle) {
   options.validate();
   const NuScenesRadarSequence sequence(dataset, scene, options.sequence);
   AutomotiveInputs inputs{sequence, nullptr, {}};
   if (options.odometry.car.any()) inputs.car = vehicleSignals(dataset, scene, options, inputs.problems);
-  return runAutomotiveOdometry(inputs, options, std::move(matcher), progress);
+  return runAutomotiveOdometry(inputs, options, std::move(matcher), progress, on_cycle);
 }
 
 AutomotiveRunResult runAutomotiveOdometry(const AutomotiveInputs& inputs, const AutomotiveRunOptions& options,
                                           MatcherAdapter matcher,
-                                          const std::function<void(std::size_t, std::size_t)>& progress) {
+                                          const std::function<void(std::size_t, std::size_t)>& progress,
+                                          const CycleCallback& on_cycle) {
   options.validate();
   const RadarCycleSource& sequence = inputs.cycles;
   const AutomotiveFrontEnd front_end(options.front_end);
   AutomotiveOdometry odometry(options.odometry, std::move(matcher));
   checkCarInputs(inputs, options);
   if (options.odometry.car.any() && inputs.car) odometry.setVehicleSignals(inputs.car);
-  const std::vector<std::string>& car_problems = inputs.problems;
-
-  AutomotiveRunResult result;
-  result.scene = sequence.sceneName();
-  result.method = options.matcher.method;
-  result.submap_size = options.odometry.submap_size;
-  result.reference_channel = sequence.referenceChannel();
-  result.period_s = sequence.periodSeconds();
-  if (odometry.usesCar()) result.prior = carPriorName(options.odometry.car);
-  result.problems = sequence.silences();
-  result.problems.insert(result.problems.begin(), car_problems.begin(), car_problems.end());
+  AutomotiveRunResult result = startResult(inputs, options, odometry.usesCar());
   const std::size_t n = options.max_cycles > 0 ? std::min(options.max_cycles, sequence.size()) : sequence.size();
   CycleSamples samples;
   EgoVelocity last_valid;
@@ -221,6 +230,7 @@ AutomotiveRunResult runAutomotiveOdometry(const AutomotiveInputs& inputs, const 
         if (!problem.empty()) p.problems.push_back(problem);
         for (const auto& q : p.problems) result.problems.push_back("cycle " + std::to_string(p.index) + ": " + q);
         samples.add(p.read_ms, p.front_end_ms, step);
+        if (on_cycle) on_cycle(p.index, step, *p.processed.cloud);
         if (progress) progress(p.index + 1, n);
       });
   result.median_ms = {median(samples.read), median(samples.front_end), median(samples.submap), median(samples.match)};

@@ -81,11 +81,17 @@ struct AutomotiveRunResult {
   std::vector<double> ego_speed;       ///< Doppler ego speed per cycle (m/s), NaN when invalid
 };
 
+/// Called after each cycle with its index, its step and the front-end's cloud (the vehicle frame at
+/// the cycle's time, moving detections removed unless the method weighs them), e.g. to build a map;
+/// in cycle order, one call at a time, from one of the run's threads.
+using CycleCallback = std::function<void(std::size_t, const OdometryStep&, const pcl::PointCloud<PointRadar>&)>;
+
 /// `progress(done, total)` is called after each cycle when given, in order, one call at a time, from
 /// one of the run's threads.
 AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
                                           const AutomotiveRunOptions& options,
-                                          const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
+                                          const std::function<void(std::size_t, std::size_t)>& progress = nullptr,
+                                          const CycleCallback& on_cycle = nullptr);
 
 /// Runs `options` on every scene of `scenes` and calls `done(i, result)` for scenes[i] in order, one
 /// call at a time, from one of the run's threads. With more than one thread and more than one
@@ -102,7 +108,8 @@ void runAutomotiveScenes(const NuScenesDataset& dataset, const std::vector<const
 /// shift); `options.matcher` is not used.
 AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const NuScenesScene& scene,
                                           const AutomotiveRunOptions& options, MatcherAdapter matcher,
-                                          const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
+                                          const std::function<void(std::size_t, std::size_t)>& progress = nullptr,
+                                          const CycleCallback& on_cycle = nullptr);
 
 /// What a run reads: the cycles, and the car's own motion sensors when the recording has them.
 struct AutomotiveInputs {
@@ -118,7 +125,8 @@ struct AutomotiveInputs {
 /// run once they have read their scene.
 AutomotiveRunResult runAutomotiveOdometry(const AutomotiveInputs& inputs, const AutomotiveRunOptions& options,
                                           MatcherAdapter matcher,
-                                          const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
+                                          const std::function<void(std::size_t, std::size_t)>& progress = nullptr,
+                                          const CycleCallback& on_cycle = nullptr);
 
 /// `options` set for `method` (a name in the registry of matchers): the method, and what it needs
 /// beyond it: a matcher with Doppler weights (rapp-ndt; MatcherUses) weighs points by Doppler

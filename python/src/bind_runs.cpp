@@ -9,7 +9,11 @@
 #include "keywords.h"
 #include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/evaluation/run_report.h"
+#include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/pipeline/automotive_run.h"
+#ifdef RADAR_NDT_WITH_ROS
+#include "radar_ndt/ros/rosbag_sequence.h"
+#endif
 #include "radar_ndt/pipeline/scanning_run.h"
 
 namespace radar_ndt {
@@ -156,9 +160,42 @@ void bindRunFunctions(py::module_& m) {
       "it needs (with_method). Returns an AutomotiveRun. The GIL is released while it runs.");
 }
 
+/// run_rosbag: a ROS 1 bag through a sensor description (a build without ROS says so when called).
+void bindRosbagRun(py::module_& m) {
+  m.def(
+      "run_rosbag",
+      [](const std::filesystem::path& bag_arg, const std::string& sensors, const py::kwargs& kw) {
+#ifdef RADAR_NDT_WITH_ROS
+        const std::string bag_path = bag_arg.string();
+        const std::string method = kw.contains("method") ? keywordAs<std::string>(kw["method"], "method") : "pw-ndt";
+        AutomotiveRunOptions o =
+            withKeywords(AutomotiveRunOptions{}, without(kw, {"method"}), "AutomotiveRunOptions", "method");
+        o = withMethod(o, method);
+        o.validate();
+        py::gil_scoped_release release;
+        const ros1::RosbagRadarSequence bag(bag_path, readSensorDescription(sensors));
+        if (o.odometry.car.wheels)
+          throw std::invalid_argument("odometry.car.wheels: a bag's wheel speeds are not read");
+        AutomotiveInputs inputs{bag, o.odometry.car.any() ? bag.vehicleSignals() : nullptr, bag.problems()};
+        return runAutomotiveOdometry(inputs, o, makeMatcher(o.matcher));
+#else
+        (void)bag_arg;
+        (void)sensors;
+        (void)kw;
+        throw std::runtime_error("run_rosbag: this build has no ROS support (Debian's ROS 1 was not found)");
+        return AutomotiveRunResult{};
+#endif
+      },
+      py::arg("bag"), py::arg("sensors"),
+      "Runs the automotive odometry over a ROS 1 bag as radar_odometry --format rosbag --bag BAG --sensors "
+      "SENSORS does (a sensor description file, or 'preset:NAME'); keywords as run_automotive's. Returns an "
+      "AutomotiveRun. The GIL is released while it runs.");
+}
+
 void bindRuns(py::module_& m) {
   bindRunResults(m);
   bindRunFunctions(m);
+  bindRosbagRun(m);
 }
 
 void bindEvaluation(py::module_& m) {

@@ -186,3 +186,16 @@ def test_the_scanning_gyro_through_run_scanning(work):
     radar_ndt.write_trajectory(str(ours), run.estimate, "tum")
     app("radar_odometry", "--format", "boreas", "--sequence", seq, "--imu", "--threads", "1", "--out", theirs, "-q")
     assert ours.read_bytes() == theirs.read_bytes()
+
+
+def test_run_rosbag_gives_the_scenes_trajectory(work):
+    need(NUSCENES)
+    try:
+        app("radar_nuscenes_to_bag", "--dataroot", NUSCENES, "--scene", SCENE, "--out", work)
+    except FileNotFoundError:
+        pytest.skip("this build has no ROS support (no radar_nuscenes_to_bag)")
+    run = radar_ndt.run_rosbag(str(work / f"{SCENE}.bag"), "preset:nuscenes_ars408")
+    scene = radar_ndt.run_automotive(str(NUSCENES), SCENE)
+    assert run.scene == SCENE and np.array_equal(run.poses, scene.poses)
+    with pytest.raises(Exception, match="no_such.yaml"):
+        radar_ndt.run_rosbag(str(work / f"{SCENE}.bag"), str(work / "no_such.yaml"))

@@ -26,7 +26,7 @@ ALLOWED = {
     "radar_ndt": {"core", "io", "registration"},
     "sim": {"core", "io", "registration", "radar_ndt"},
     "ros": {"core", "io"},
-    "python": {"core", "io", "registration", "radar_ndt"},
+    "python": {"core", "io", "registration", "radar_ndt", "ros"},
     "apps": {"core", "io", "registration", "radar_ndt", "sim", "ros"},
 }
 # The stages inside radar_ndt/, lowest first: a stage includes only its own and lower ones.

@@ -15,19 +15,14 @@ std::size_t sizeOf(std::uint8_t datatype) {
   using F = sensor_msgs::PointField;
   switch (datatype) {
     case F::INT8:
-    case F::UINT8:
-      return 1;
+    case F::UINT8: return 1;
     case F::INT16:
-    case F::UINT16:
-      return 2;
+    case F::UINT16: return 2;
     case F::INT32:
     case F::UINT32:
-    case F::FLOAT32:
-      return 4;
-    case F::FLOAT64:
-      return 8;
-    default:
-      return 0;
+    case F::FLOAT32: return 4;
+    case F::FLOAT64: return 8;
+    default: return 0;
   }
 }
 
@@ -43,8 +38,7 @@ double valueAt(const std::uint8_t* p, std::uint8_t datatype, bool swap) {
       std::memcpy(&v, b, 1);
       return v;
     }
-    case F::UINT8:
-      return b[0];
+    case F::UINT8: return b[0];
     case F::INT16: {
       std::int16_t v;
       std::memcpy(&v, b, 2);
@@ -115,7 +109,8 @@ CloudColumns readCloudColumns(const sensor_msgs::PointCloud2& cloud, const std::
     if (!field[c]) continue;
     const std::size_t size = sizeOf(field[c]->datatype);
     if (size == 0)
-      throw std::invalid_argument("field '" + names[c] + "' has unknown datatype " + std::to_string(field[c]->datatype));
+      throw std::invalid_argument("field '" + names[c] + "' has unknown datatype " +
+                                  std::to_string(field[c]->datatype));
     if (field[c]->count == 0) throw std::invalid_argument("field '" + names[c] + "' has count 0");
     if (static_cast<std::uint64_t>(field[c]->offset) + size > cloud.point_step)
       throw std::invalid_argument("field '" + names[c] + "' (offset " + std::to_string(field[c]->offset) +
@@ -126,8 +121,8 @@ CloudColumns readCloudColumns(const sensor_msgs::PointCloud2& cloud, const std::
   std::size_t i = 0;
   for (std::uint32_t row = 0; row < cloud.height; ++row)
     for (std::uint32_t col = 0; col < cloud.width; ++col, ++i) {
-      const std::uint8_t* point =
-          cloud.data.data() + static_cast<std::size_t>(row) * cloud.row_step + static_cast<std::size_t>(col) * cloud.point_step;
+      const std::uint8_t* point = cloud.data.data() + static_cast<std::size_t>(row) * cloud.row_step +
+                                  static_cast<std::size_t>(col) * cloud.point_step;
       for (std::size_t c = 0; c < columns; ++c)
         if (field[c]) out.table[i * columns + c] = valueAt(point + field[c]->offset, field[c]->datatype, swap);
     }

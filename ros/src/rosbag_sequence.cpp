@@ -147,8 +147,8 @@ class BagReader {
     std::string wanted;
     for (const auto& t : types) wanted += (wanted.empty() ? "" : " or ") + t;
     if (it == types_.end())
-      throw IoError(s_.path_, d_.source + ": " + key + " topic " + topic + " is not in the bag (its topics: " +
-                                  topicList() + ")");
+      throw IoError(s_.path_, d_.source + ": " + key + " topic " + topic +
+                                  " is not in the bag (its topics: " + topicList() + ")");
     if (!types.count(it->second))
       throw IoError(s_.path_, key + " topic " + topic + " carries " + it->second + ", not " + wanted);
   }
@@ -166,7 +166,8 @@ class BagReader {
       s_.channels_.push_back(r.name);
     }
     if (!d_.imu_topic.empty()) expectType("imu", d_.imu_topic, {kImu});
-    if (!d_.ground_truth_topic.empty()) expectType("ground_truth", d_.ground_truth_topic, {kOdometry, kPoseStamped, kTf});
+    if (!d_.ground_truth_topic.empty())
+      expectType("ground_truth", d_.ground_truth_topic, {kOdometry, kPoseStamped, kTf});
     frames_.assign(d_.radars.size(), "");
     for (std::size_t i = 0; i < d_.radars.size(); ++i) frames_[i] = d_.radars[i].frame;
     read_ok_.assign(d_.radars.size(), 0);
@@ -178,8 +179,9 @@ class BagReader {
     if (d_.stamps == StampSource::Receive) return m.getTime();
     if (d_.stamps == StampSource::Auto && header.isZero()) {
       if (zero_stamps_.insert(m.getTopic()).second)
-        s_.problems_.push_back(m.getTopic() + ": header stamps are 0 (the driver writes none): the bag's receive "
-                                              "times are used");
+        s_.problems_.push_back(m.getTopic() +
+                               ": header stamps are 0 (the driver writes none): the bag's receive "
+                               "times are used");
       return m.getTime();
     }
     return header;
@@ -208,7 +210,8 @@ class BagReader {
       for (const std::string& required : r.fields.requiredColumns())
         for (std::size_t c = 0; c < names.size(); ++c)
           if (names[c] == required && !columns.present[c])
-            throw std::invalid_argument("no field '" + required + "' (the message's fields: " + fieldNames(*cloud) + ")");
+            throw std::invalid_argument("no field '" + required + "' (the message's fields: " + fieldNames(*cloud) +
+                                        ")");
       RadarPointStats stats;
       RosbagRadarSequence::Sweep sweep;
       sweep.points = convertRadarPoints(columns.table, columns.points, columns.present, r.fields, channel, &stats);
@@ -315,7 +318,8 @@ void BagReader::finishSignalsAndTruth() {
       signals->yaw_rate.stamps_us.push_back(t);
       signals->yaw_rate.values.push_back(v);
     }
-    if (signals->yaw_rate.empty()) throw IoError(s_.path_, "imu topic " + d_.imu_topic + " has no message with a yaw rate");
+    if (signals->yaw_rate.empty())
+      throw IoError(s_.path_, "imu topic " + d_.imu_topic + " has no message with a yaw rate");
     if (imu_dropped_ > 0)
       s_.problems_.push_back(d_.imu_topic + ": " + std::to_string(imu_dropped_) +
                              " messages without a finite yaw rate left out");
@@ -337,9 +341,10 @@ void BagReader::finishSignalsAndTruth() {
 void BagReader::finish() {
   for (std::size_t i = 0; i < d_.radars.size(); ++i)
     if (!read_ok_[i])
-      throw IoError(s_.path_, "radar " + d_.radars[i].name + ": " +
-                                  (first_error_[i].empty() ? "no message on " + d_.radars[i].topic
-                                                           : "no message could be read; the first: " + first_error_[i]));
+      throw IoError(s_.path_,
+                    "radar " + d_.radars[i].name + ": " +
+                        (first_error_[i].empty() ? "no message on " + d_.radars[i].topic
+                                                 : "no message could be read; the first: " + first_error_[i]));
   finishMountings();
   finishSignalsAndTruth();
   // Time order, channel order at equal times (as a nuScenes scene's sweeps); a radar's repeated
@@ -351,8 +356,9 @@ void BagReader::finish() {
   std::vector<RosbagRadarSequence::Sweep> kept;
   for (auto& sw : sweeps) {
     if (!kept.empty() && kept.back().timestamp_us == sw.timestamp_us && kept.back().channel == sw.channel) {
-      log_.add(d_.radars[sw.channel].topic + " (repeated stamps)",
-               d_.radars[sw.channel].topic + ": a second message at " + std::to_string(sw.timestamp_us) + " us: left out");
+      log_.add(
+          d_.radars[sw.channel].topic + " (repeated stamps)",
+          d_.radars[sw.channel].topic + ": a second message at " + std::to_string(sw.timestamp_us) + " us: left out");
       continue;
     }
     kept.push_back(std::move(sw));

@@ -46,8 +46,8 @@ class LiveCycles {
   std::uint16_t reference_;
   std::int64_t fixed_period_us_;
   std::map<std::uint16_t, std::deque<RadarSweepData>> sweeps_;  ///< per channel, time order
-  std::deque<std::int64_t> pending_;                              ///< reference times not yet handed out
-  std::vector<std::int64_t> intervals_;                           ///< the reference's, for the running median
+  std::deque<std::int64_t> pending_;                            ///< reference times not yet handed out
+  std::vector<std::int64_t> intervals_;                         ///< the reference's, for the running median
   std::int64_t last_reference_us_ = -1, last_out_us_ = -1;
 };
 

@@ -27,9 +27,12 @@
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/ros/live_cycles.h"
 #include "radar_ndt/ros/point_cloud2.h"
+#include "radar_ndt/ros/ros_time.h"
 #include "radar_ndt/se2.h"
 
 using namespace radar_ndt;
+using ros1::microseconds;
+using ros1::rosTime;
 
 namespace {
 
@@ -38,17 +41,6 @@ double cpuSeconds() {
   getrusage(RUSAGE_THREAD, &u);
   return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
          1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
-
-std::int64_t microseconds(const ros::Time& t) {
-  return static_cast<std::int64_t>(t.sec) * 1000000 + static_cast<std::int64_t>(t.nsec / 1000);
-}
-
-ros::Time rosTime(std::int64_t us) {
-  ros::Time t;
-  t.sec = static_cast<std::uint32_t>(us / 1000000);
-  t.nsec = static_cast<std::uint32_t>((us % 1000000) * 1000);
-  return t;
 }
 
 double percentile(std::vector<double> v, double q) {

@@ -70,10 +70,8 @@ double valueOf(const json& message, const std::string& key, int index, const std
   return v->get<double>();
 }
 
-}  // namespace
-
-TimeSeries readCanBusSeries(const std::string& file, const std::vector<std::string>& keys, int index,
-                            std::size_t* dropped) {
+/// A CAN bus message file as the devkit writes it: a JSON list (NaN and Infinity allowed).
+json readMessages(const std::string& file) {
   json messages;
   try {
     messages = json::parse(nullNonFinite(detail::readWholeFile(file)));
@@ -81,6 +79,14 @@ TimeSeries readCanBusSeries(const std::string& file, const std::vector<std::stri
     throw IoError(file, std::string("invalid JSON: ") + e.what());
   }
   if (!messages.is_array()) throw IoError(file, "expected a JSON list of messages");
+  return messages;
+}
+
+}  // namespace
+
+TimeSeries readCanBusSeries(const std::string& file, const std::vector<std::string>& keys, int index,
+                            std::size_t* dropped) {
+  const json messages = readMessages(file);
   TimeSeries series;
   for (std::size_t i = 0; i < messages.size(); ++i) {
     const json& m = messages[i];
@@ -111,13 +117,7 @@ std::optional<std::vector<CanImuMessage>> readNuScenesImuMessages(const std::str
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return std::nullopt;
   const std::string file = (dir / (scene_name + "_ms_imu.json")).string();
-  json messages;
-  try {
-    messages = json::parse(nullNonFinite(detail::readWholeFile(file)));
-  } catch (const json::exception& e) {
-    throw IoError(file, std::string("invalid JSON: ") + e.what());
-  }
-  if (!messages.is_array()) throw IoError(file, "expected a JSON list of messages");
+  const json messages = readMessages(file);
   std::vector<CanImuMessage> out;
   for (std::size_t i = 0; i < messages.size(); ++i) {
     const json& m = messages[i];

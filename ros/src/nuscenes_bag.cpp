@@ -12,6 +12,7 @@
 
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/nuscenes_can_bus.h"
+#include "radar_ndt/ros/ros_time.h"
 
 namespace radar_ndt {
 namespace ros1 {
@@ -19,13 +20,6 @@ namespace ros1 {
 namespace {
 
 namespace fs = std::filesystem;
-
-ros::Time toRosTime(std::int64_t us) {
-  ros::Time t;
-  t.sec = static_cast<std::uint32_t>(us / 1000000);
-  t.nsec = static_cast<std::uint32_t>((us % 1000000) * 1000);
-  return t;
-}
 
 std::uint8_t datatypeOf(char type, std::size_t size, const std::string& path, const std::string& name) {
   using F = sensor_msgs::PointField;
@@ -111,7 +105,7 @@ std::size_t writeImu(rosbag::Bag& bag, const NuScenesDataset& dataset, const NuS
   if (!messages) return 0;
   for (const CanImuMessage& m : *messages) {
     sensor_msgs::Imu imu;
-    imu.header.stamp = toRosTime(m.utime);
+    imu.header.stamp = rosTime(m.utime);
     imu.header.frame_id = "base_link";
     imu.angular_velocity.x = m.rotation_rate.x();
     imu.angular_velocity.y = m.rotation_rate.y();
@@ -140,7 +134,7 @@ NuScenesBagStats writeNuScenesBag(const NuScenesDataset& dataset, const NuScenes
                        : compression == BagCompression::Lz4 ? rosbag::compression::LZ4
                                                             : rosbag::compression::Uncompressed);
     for (const NuScenesSweep& s : dataset.radarSweeps(scene)) {
-      const ros::Time stamp = toRosTime(s.timestamp_us);
+      const ros::Time stamp = rosTime(s.timestamp_us);
       tf2_msgs::TFMessage tf;
       tf.transforms.push_back(transformOf(s.ego_to_global, s.ego_rotation_wxyz, "map", "base_link", stamp));
       tf.transforms.push_back(transformOf(s.sensor_to_ego, s.sensor_rotation_wxyz, "base_link", s.channel, stamp));

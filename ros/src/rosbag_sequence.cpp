@@ -17,6 +17,7 @@
 
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/ros/point_cloud2.h"
+#include "radar_ndt/ros/ros_time.h"
 #include "radar_ndt/se2.h"
 
 namespace radar_ndt {
@@ -29,10 +30,6 @@ constexpr const char* kImu = "sensor_msgs/Imu";
 constexpr const char* kOdometry = "nav_msgs/Odometry";
 constexpr const char* kPoseStamped = "geometry_msgs/PoseStamped";
 constexpr const char* kTf = "tf2_msgs/TFMessage";
-
-std::int64_t microseconds(const ros::Time& t) {
-  return static_cast<std::int64_t>(t.sec) * 1000000 + static_cast<std::int64_t>(t.nsec / 1000);
-}
 
 std::string seconds(const ros::Time& t) {
   char buf[64];

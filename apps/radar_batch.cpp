@@ -18,6 +18,7 @@
 #include "batch/batch_run.h"
 #include "pipeline_options.h"
 #include "radar_ndt/io/atomic_file.h"
+#include "radar_ndt/io/sensor_description.h"
 
 #ifndef RADAR_NDT_VERSION
 #define RADAR_NDT_VERSION "unknown"
@@ -124,9 +125,11 @@ po::options_description planOptions() {
   // clang-format off
   o.add_options()
     ("help,h", "this help")
-    ("format", po::value<std::string>()->required(), "nuscenes | oxford | radiate | boreas")
+    ("format", po::value<std::string>()->required(), "nuscenes | rosbag | oxford | radiate | boreas")
     ("root", po::value<std::string>()->required(),
-     "nuscenes: the dataroot (each scene a sequence); scanning: a sequence folder, or a folder of them")
+     "nuscenes: the dataroot (each scene a sequence); rosbag: a bag, or a folder of *.bag files (each a sequence); "
+     "scanning: a sequence folder, or a folder of them")
+    ("sensors", po::value<std::string>(), "rosbag: the sensor description every bag is read with (FILE.yaml or preset:NAME)")
     ("sequences", po::value<std::string>(), "comma-separated sequence (scene) names (default: every one found)")
     ("glob", po::value<std::string>(), "only sequences whose name matches this pattern (fnmatch, e.g. '2019-01-1*')")
     ("method", po::value<std::string>()->default_value("pw-ndt"), "comma-separated methods (radar_odometry --method)")
@@ -152,6 +155,11 @@ int plan(int argc, char** argv) {
   r.root = fs::absolute(vm["root"].as<std::string>()).lexically_normal().string();
   if (vm.count("sequences")) r.sequences = commaList(vm["sequences"].as<std::string>());
   if (vm.count("glob")) r.glob = vm["glob"].as<std::string>();
+  if (vm.count("sensors")) {
+    r.sensors = vm["sensors"].as<std::string>();
+    if (r.sensors.rfind("preset:", 0) != 0) r.sensors = fs::absolute(r.sensors).lexically_normal().string();
+    readSensorDescription(r.sensors);  // a bad description refused now, not in every task
+  }
   r.methods = commaList(vm["method"].as<std::string>());
   for (const auto& m : r.methods) findMatcher(m);
   if (vm.count("set"))

@@ -15,6 +15,7 @@
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/sensor_description.h"
 
 namespace radar_ndt {
 namespace batch {
@@ -45,9 +46,13 @@ bool isSequence(const std::string& format, const fs::path& dir) {
   return false;
 }
 
-bool hasGroundTruth(const std::string& format, const std::string& path) {
+bool hasGroundTruth(const PlanRequest& request, const std::string& path) {
+  const std::string& format = request.format;
   std::error_code ec;
   if (format == "nuscenes") return true;  // the ego poses
+  // A bag's ground truth is what its description names; a bag without that topic fails its task
+  // with the reader's message, as a run by hand would.
+  if (format == "rosbag") return !readSensorDescription(request.sensors).ground_truth_topic.empty();
   if (format == "oxford") return fs::is_regular_file(fs::path(path) / "gt" / "radar_odometry.csv", ec);
   if (format == "boreas") return fs::is_regular_file(fs::path(path) / "applanix" / "radar_poses.csv", ec);
   return false;
@@ -85,6 +90,18 @@ std::vector<Sequence> findSequences(const std::string& format, const std::string
   if (format == "nuscenes") {
     const NuScenesDataset dataset(root);
     for (const auto& s : dataset.scenes()) found.push_back({s.name, fs::absolute(root).lexically_normal().string()});
+  } else if (format == "rosbag") {
+    // A bag, or every *.bag of a folder (not its subfolders): a sequence each, named by its stem.
+    std::error_code ec;
+    const fs::path r = fs::absolute(root).lexically_normal();
+    if (fs::is_regular_file(r, ec)) {
+      found.push_back({r.stem().string(), r.string()});
+    } else {
+      if (!fs::is_directory(r, ec)) throw IoError(root, "is neither a bag nor a folder");
+      for (const auto& e : fs::directory_iterator(r, ec))
+        if (e.is_regular_file() && e.path().extension() == ".bag")
+          found.push_back({e.path().stem().string(), e.path().string()});
+    }
   } else if (format == "oxford" || format == "radiate" || format == "boreas") {
     std::error_code ec;
     if (!fs::is_directory(root, ec)) throw IoError(root, "is not a folder");
@@ -95,7 +112,7 @@ std::vector<Sequence> findSequences(const std::string& format, const std::string
       if (e.is_directory() && isSequence(format, e.path()))
         found.push_back({e.path().filename().string(), e.path().string()});
   } else {
-    throw std::invalid_argument("--format " + format + " is not supported (nuscenes, oxford, radiate, boreas)");
+    throw std::invalid_argument("--format " + format + " is not supported (nuscenes, rosbag, oxford, radiate, boreas)");
   }
   std::sort(found.begin(), found.end(), [](const Sequence& a, const Sequence& b) { return a.name < b.name; });
   if (!names.empty()) {
@@ -145,6 +162,8 @@ std::string taskDir(const std::string& run_dir, const std::string& id) {
 }
 
 std::vector<Task> expandPlan(const PlanRequest& request, const std::vector<Sequence>& sequences) {
+  if (request.format == "rosbag" && request.sensors.empty())
+    throw std::invalid_argument("--format rosbag needs --sensors FILE.yaml (or preset:NAME)");
   // Every combination of the axes' values, the last axis fastest.
   std::vector<std::vector<std::pair<std::string, std::string>>> grid{{}};
   for (const auto& axis : request.settings) {
@@ -169,11 +188,13 @@ std::vector<Task> expandPlan(const PlanRequest& request, const std::vector<Seque
         c = {request.odometry_app, "--format", request.format};
         if (request.format == "nuscenes")
           c.insert(c.end(), {"--dataroot", seq.path, "--scene", seq.name});
+        else if (request.format == "rosbag")
+          c.insert(c.end(), {"--bag", seq.path, "--sensors", request.sensors});
         else
           c.insert(c.end(), {"--sequence", seq.path});
         c.insert(c.end(), {"--method", method});
         for (const auto& [name, value] : settings) c.insert(c.end(), {"--" + name, value});
-        if (hasGroundTruth(request.format, seq.path)) c.insert(c.end(), {"--eval", "--metric", "all"});
+        if (hasGroundTruth(request, seq.path)) c.insert(c.end(), {"--eval", "--metric", "all"});
         c.insert(c.end(),
                  {"--json", "-q", "--out", (fs::path(taskDir(request.run_dir, t.id)) / "trajectory.txt").string()});
         tasks.push_back(std::move(t));
@@ -236,6 +257,7 @@ void writePlan(const Plan& plan) {
                   {"format", r.format},
                   {"root", r.root},
                   {"glob", r.glob},
+                  {"sensors", r.sensors},
                   {"methods", r.methods},
                   {"settings", sets},
                   {"sequences", seqs},
@@ -262,6 +284,7 @@ Plan readPlan(const std::string& run_dir) {
     r.format = j.at("format");
     r.root = j.at("root");
     r.glob = j.at("glob");
+    r.sensors = j.value("sensors", "");  // absent in plans written before bags were read
     r.methods = j.at("methods").get<std::vector<std::string>>();
     for (const auto& a : j.at("settings")) r.settings.push_back({a.at("name"), a.at("values")});
     for (const auto& s : j.at("sequences")) plan.sequences.push_back({s.at("name"), s.at("path")});

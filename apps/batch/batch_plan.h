@@ -19,13 +19,14 @@ struct SettingAxis {
 SettingAxis parseSettingAxis(const std::string& text);
 
 struct Sequence {
-  std::string name;  ///< the folder's name (scanning) or the scene's (nuscenes)
-  std::string path;  ///< the folder (scanning) or the dataroot (nuscenes)
+  std::string name;  ///< the folder's name (scanning), the scene's (nuscenes), the bag's stem (rosbag)
+  std::string path;  ///< the folder (scanning), the dataroot (nuscenes) or the bag (rosbag)
 };
 
 /// The sequences of `root` for `format`: nuscenes, every scene of the dataroot; oxford, radiate,
 /// boreas, every folder (root itself, or its subfolders) laid out as the format's reader wants
-/// (radar.timestamps; Navtech_Polar.txt; radar/ with PNGs), by name. `names` keeps only those
+/// (radar.timestamps; Navtech_Polar.txt; radar/ with PNGs); rosbag, root itself when it is a file,
+/// else every *.bag of the folder; by name. `names` keeps only those
 /// (std::invalid_argument naming one that is not there); `glob` (fnmatch) only those matching.
 std::vector<Sequence> findSequences(const std::string& format, const std::string& root,
                                     const std::vector<std::string>& names = {}, const std::string& glob = "");
@@ -45,6 +46,7 @@ struct PlanRequest {
   std::string root;
   std::vector<std::string> sequences;  ///< names; empty: all
   std::string glob;
+  std::string sensors;  ///< rosbag: the sensor description every task reads (absolute, or preset:NAME)
   std::vector<std::string> methods{"pw-ndt"};
   std::vector<SettingAxis> settings;
   std::string odometry_app;  ///< the radar_odometry every task runs
@@ -52,9 +54,10 @@ struct PlanRequest {
 };
 
 /// Every sequence x method x setting combination, in that nesting order, with its command:
-/// radar_odometry --format F (--sequence DIR | --dataroot ROOT --scene NAME) --method M
-/// [--NAME VALUE ...] [--eval --metric all] --json -q --out RUN/tasks/ID/trajectory.txt
-/// (--eval when the sequence has ground truth). Throws std::invalid_argument for duplicate ids.
+/// radar_odometry --format F (--sequence DIR | --dataroot ROOT --scene NAME | --bag BAG --sensors S)
+/// --method M [--NAME VALUE ...] [--eval --metric all] --json -q --out RUN/tasks/ID/trajectory.txt
+/// (--eval when the sequence has ground truth: for bags, when the description names a topic). Throws
+/// std::invalid_argument for duplicate ids.
 std::vector<Task> expandPlan(const PlanRequest& request, const std::vector<Sequence>& sequences);
 
 /// A task's id: 16 hex digits of FNV-1a over sequence, method and settings.

@@ -12,7 +12,7 @@ import time
 
 import pytest
 
-from conftest import BATCH, METRICS, NUSCENES, ODOMETRY, OXFORD, alone_figures, fmt, need, read_csv, sh, tasks_of
+from conftest import APP_DIR, BATCH, METRICS, NUSCENES, ODOMETRY, OXFORD, alone_figures, fmt, need, read_csv, sh, tasks_of
 
 
 @pytest.fixture(scope="module")
@@ -61,6 +61,27 @@ def test_a_second_run_skips_finished_tasks_and_reruns_only_a_lost_one(nuscenes_r
     assert "9 complete (skipped), 1 to run" in out
     assert lost.exists()
     assert all(p.stat().st_mtime_ns == stamps[p] for p in results if p != lost)
+
+
+def test_bags_of_the_scenes_report_the_scenes_figures(nuscenes_run, tmp_path):
+    to_bag = APP_DIR / "radar_nuscenes_to_bag"
+    if not to_bag.exists():
+        pytest.skip("this build has no ROS 1 support (bash .ci/deps installs Debian's ROS 1)")
+    bags = tmp_path / "my bags"  # a space: paths are quoted
+    for scene in ("scene-0061", "scene-0655"):
+        sh(to_bag, "--dataroot", NUSCENES, "--scene", scene, "--out", bags)
+    run = tmp_path / "bag run"
+    sh(BATCH, "plan", "--format", "rosbag", "--root", bags, "--sensors", "preset:nuscenes_ars408", "--method",
+       "pw-ndt,doppler", "--out", run)
+    out = sh(BATCH, "run", run, "--engine", "parallel", "-j", "2").stdout
+    assert "4 complete, 0 failed" in out
+    sh(BATCH, "report", run)
+    scenes = {(r["sequence"], r["method"]): r for r in read_csv(nuscenes_run / "summary.csv")}
+    rows = read_csv(run / "summary.csv")
+    assert len(rows) == 4
+    for r in rows:  # a bag of a scene is the scene: the same figures to the last printed digit
+        assert all(r[m] == scenes[(r["sequence"], r["method"])][m] for m in METRICS), r
+    assert "--sensors preset:nuscenes_ars408" in (run / "tasks.tsv").read_text()
 
 
 def test_the_real_oxford_scans_and_a_failing_setting(tmp_path):

@@ -89,6 +89,43 @@ TEST(BatchPlan, ExpandsEverySequenceMethodAndSettingWithStableIds) {
   fs::remove_all(dir);
 }
 
+TEST(BatchPlan, BagsAreSequencesReadThroughOneSensorDescription) {
+  const fs::path dir = scratch("bags");
+  fs::create_directories(dir / "bags" / "sub");
+  for (const char* f : {"drive 1.bag", "drive_2.bag", "notes.txt", "sub/deeper.bag"})
+    radar_ndt::writeFileAtomically((dir / "bags" / f).string(), "#ROSBAG V2.0\n");
+  PlanRequest r;
+  r.format = "rosbag";
+  r.root = (dir / "bags").string();
+  r.odometry_app = "radar_odometry";
+  r.run_dir = (dir / "run").string();
+  const auto bags = findSequences("rosbag", r.root);
+  ASSERT_EQ(bags.size(), 2u);  // the folder's *.bag files, not its subfolders'
+  EXPECT_EQ(bags[0].name, "drive 1");
+  EXPECT_EQ(bags[1].path, (dir / "bags" / "drive_2.bag").string());
+  const auto one = findSequences("rosbag", (dir / "bags" / "sub" / "deeper.bag").string());
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_EQ(one[0].name, "deeper");
+  EXPECT_THROW(expandPlan(r, bags), std::invalid_argument);  // no description
+  // The nuScenes preset names a ground truth: every bag's task is evaluated.
+  r.sensors = "preset:nuscenes_ars408";
+  const auto tasks = expandPlan(r, bags);
+  ASSERT_EQ(tasks.size(), 2u);
+  const std::vector<std::string> head(tasks[0].command.begin(), tasks[0].command.begin() + 11);
+  EXPECT_EQ(head, (std::vector<std::string>{"radar_odometry", "--format", "rosbag", "--bag", bags[0].path, "--sensors",
+                                            "preset:nuscenes_ars408", "--method", "pw-ndt", "--eval", "--metric"}));
+  // The TI preset names none: no --eval.
+  r.sensors = "preset:ti_iwr6843_rio";
+  const auto no_gt = expandPlan(r, bags)[0].command;
+  EXPECT_EQ(std::find(no_gt.begin(), no_gt.end(), "--eval"), no_gt.end());
+  // The description is part of the plan.
+  Plan p{r, bags, expandPlan(r, bags), "0.2.0", "abc"};
+  writePlan(p);
+  EXPECT_EQ(readPlan(r.run_dir).request.sensors, "preset:ti_iwr6843_rio");
+  EXPECT_THROW(findSequences("rosbag", (dir / "nothing").string()), radar_ndt::IoError);
+  fs::remove_all(dir);
+}
+
 TEST(BatchPlan, QuotesPathsWithSpacesAsAShellSplitsThem) {
   const std::vector<std::string> words{
       "/opt/radar ndt/radar_odometry", "--sequence", "/data/it's here", "plain", "a\"b", "$HOME", ""};

@@ -3,14 +3,17 @@
 // offline planner's rule), runs the front-end and the odometry the offline run uses, and publishes
 // ~odometry (nav_msgs/Odometry with the match's covariance), the TF odom -> base_link (REP 105),
 // ~local_map (sensor_msgs/PointCloud2, the local map in base_link), ~map (the stationary
-// detections in odom, as --map-out writes them, latched, every tenth cycle) and /diagnostics. Its parameters
-// are the run options' field table: ~odometry/submap_size, ~matcher/method, ... (one source with
-// the command line and Python).
+// detections in odom, as --map-out writes them, latched, every tenth cycle) and /diagnostics. With
+// ~odometry/car/gyro (the offline --imu) it fuses the description's IMU topic's yaw rate, each cycle
+// held until the gyro has reached past it (ros1::LiveYawRate). Its parameters are the run options'
+// field table: ~odometry/submap_size, ~matcher/method, ... (one source with the command line and
+// Python).
 #include <sys/resource.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -18,6 +21,7 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_msgs/TFMessage.h>
 
@@ -26,6 +30,7 @@
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/ros/live_cycles.h"
+#include "radar_ndt/ros/live_yaw_rate.h"
 #include "radar_ndt/ros/point_cloud2.h"
 #include "radar_ndt/ros/ros_time.h"
 #include "radar_ndt/se2.h"
@@ -90,6 +95,15 @@ class Node {
     pn.param("flush_after", flush_after_, 0.5);
     pn.param<std::string>("odom_frame", odom_frame_, "odom");
     front_end_ = std::make_unique<AutomotiveFrontEnd>(options_.front_end);
+    if (options_.odometry.car.wheels)
+      throw std::invalid_argument(
+          "~odometry/car/wheels: the node reads no wheel speeds (docs/ros.md); "
+          "~odometry/car/gyro fuses the IMU's yaw rate");
+    use_gyro_ = options_.odometry.car.gyro;
+    if (use_gyro_ && d_.imu_topic.empty())
+      throw std::invalid_argument("~odometry/car/gyro: " + d_.source + " names no imu topic");
+    offset_us_ = std::llround(options_.odometry.car.time_offset * 1e6);
+    yaw_ = ros1::LiveYawRate(d_.imu_topic);
     resetOdometry();
     for (std::size_t i = 0; i < d_.radars.size(); ++i) {
       const RadarDescription& r = d_.radars[i];
@@ -98,6 +112,8 @@ class Node {
       subs_.push_back(nh.subscribe<sensor_msgs::PointCloud2>(
           r.topic, 200, [this, i](const sensor_msgs::PointCloud2::ConstPtr& m) { onCloud(i, *m); }));
     }
+    if (use_gyro_)
+      subs_.push_back(nh.subscribe<sensor_msgs::Imu>(d_.imu_topic, 2000, [this](const auto& m) { onImu(*m); }));
     subs_.push_back(nh.subscribe<tf2_msgs::TFMessage>("/tf", 200, [this](const auto& m) { onTf(*m); }));
     subs_.push_back(nh.subscribe<tf2_msgs::TFMessage>("/tf_static", 20, [this](const auto& m) { onTf(*m); }));
     odom_pub_ = pn.advertise<nav_msgs::Odometry>("odometry", 100);
@@ -130,7 +146,49 @@ class Node {
 
   void resetOdometry() {
     odometry_ = std::make_unique<AutomotiveOdometry>(options_.odometry, makeMatcher(options_.matcher));
+    if (use_gyro_) odometry_->setVehicleSignals(yaw_.signals());
     have_valid_ = false;
+  }
+
+  /// A message's time by the description's rule: its header stamp, or its arrival when it has none.
+  std::int64_t stampOf(const ros::Time& header) const {
+    const bool use_header = d_.stamps == StampSource::Header || (d_.stamps == StampSource::Auto && !header.isZero());
+    return microseconds(use_header ? header : ros::Time::now());
+  }
+
+  /// The stream went back in time (a bag played again): everything starts again.
+  void restart(const std::string& why) {
+    ROS_WARN_STREAM("radar_ndt_node: " << why << ": the odometry starts again");
+    live_.reset();
+    waiting_.clear();
+    pending_.clear();
+    for (auto& s : channel_state_) s.last_us = -1;
+    imu_.last_us = -1;
+    stream_us_ = -1;
+    yaw_.reset();
+    resetOdometry();
+    map_ = PointMap(0.2);
+  }
+
+  void onImu(const sensor_msgs::Imu& msg) {
+    const std::int64_t t = stampOf(msg.header.stamp);
+    ++imu_.messages;
+    imu_.last_arrival = ros::WallTime::now();
+    if (imu_.last_us >= 0 && t < imu_.last_us - 500000) {
+      imu_.last_problem = d_.imu_topic + ": time jumped back";
+      restart(imu_.last_problem);
+    }
+    imu_.last_us = t;
+    stream_us_ = std::max(stream_us_, t - offset_us_);
+    const auto added = yaw_.add(t, msg.angular_velocity.z);
+    if (added == ros1::LiveYawRate::Added::NotFinite || added == ros1::LiveYawRate::Added::Late) {
+      const bool nan = added == ros1::LiveYawRate::Added::NotFinite;
+      ++(nan ? imu_.malformed : imu_.late);
+      imu_.last_problem = d_.imu_topic + (nan ? ": a yaw rate that is not a number: left out"
+                                              : ": a message older than the cycles already matched: left out");
+      ROS_WARN_STREAM_THROTTLE(1.0, "radar_ndt_node: " << imu_.last_problem);
+    }
+    processReady();
   }
 
   void problem(std::size_t i, const std::string& text) {
@@ -179,19 +237,13 @@ class Node {
     ++c.messages;
     c.last_arrival = arrival;
     if (c.frame.empty()) c.frame = msg.header.frame_id;
-    const bool use_header =
-        d_.stamps == StampSource::Header || (d_.stamps == StampSource::Auto && !msg.header.stamp.isZero());
-    const std::int64_t t = microseconds(use_header ? msg.header.stamp : ros::Time::now());
+    const std::int64_t t = stampOf(msg.header.stamp);
     if (c.last_us >= 0 && t < c.last_us - 500000) {  // the stream went back in time: a bag played again
-      problem(i, r.topic + ": time jumped back by " + std::to_string((c.last_us - t) / 1000) +
-                     " ms: the odometry starts again");
-      live_.reset();
-      waiting_.clear();
-      for (auto& s : channel_state_) s.last_us = -1;
-      resetOdometry();
-      map_ = PointMap(0.2);
+      c.last_problem = r.topic + ": time jumped back by " + std::to_string((c.last_us - t) / 1000) + " ms";
+      restart(c.last_problem);
     }
     c.last_us = t;
+    stream_us_ = std::max(stream_us_, t);
     RadarSweepData sweep;
     sweep.timestamp_us = t;
     sweep.sensor_id = static_cast<std::uint16_t>(i);
@@ -227,7 +279,17 @@ class Node {
 
   void drain() {
     if (!reference()) return;
-    while (auto cycle = live_->next()) process(*cycle);
+    while (auto cycle = live_->next()) pending_.push_back(std::move(*cycle));
+    processReady();
+  }
+
+  /// The complete cycles, oldest first, each once the gyro has reached past it (when it is fused).
+  void processReady() {
+    while (!pending_.empty() &&
+           (!use_gyro_ || yaw_.reaches(pending_.front().timestamp_us + offset_us_, stream_us_ + offset_us_))) {
+      process(pending_.front());
+      pending_.pop_front();
+    }
   }
 
   void flushIfQuiet() {
@@ -235,7 +297,9 @@ class Node {
     ros::WallTime last;
     for (const auto& c : channel_state_) last = std::max(last, c.last_arrival);
     if (last.isZero() || (ros::WallTime::now() - last).toSec() < flush_after_) return;
-    for (RadarCycle& cycle : live_->flush()) process(cycle);
+    for (RadarCycle& cycle : live_->flush()) pending_.push_back(std::move(cycle));
+    for (RadarCycle& cycle : pending_) process(cycle);
+    pending_.clear();
   }
 
   void process(RadarCycle& cycle) {
@@ -248,6 +312,7 @@ class Node {
       have_valid_ = true;
     }
     const OdometryStep& step = odometry_->add(processed);
+    if (use_gyro_) yaw_.used(cycle.timestamp_us + offset_us_);
     map_.add(*processed.cloud, step.pose);
     publish(step, cycle.timestamp_us);
     ++cycles_;
@@ -350,6 +415,26 @@ class Node {
       kv("mounting", c.mounting ? "known" : "waiting for /tf");
       a.status.push_back(s);
     }
+    if (use_gyro_) {
+      diagnostic_msgs::DiagnosticStatus g;
+      g.name = "radar_ndt: " + d_.imu_topic;
+      g.hardware_id = "imu";
+      const bool silent =
+          !newest.isZero() && (imu_.last_arrival.isZero() || (newest - imu_.last_arrival).toSec() > 1.0);
+      g.level = silent || imu_.malformed > 0 || imu_.late > 0 ? diagnostic_msgs::DiagnosticStatus::WARN
+                                                              : diagnostic_msgs::DiagnosticStatus::OK;
+      g.message = silent ? "silent: no IMU message for over a second while the radars send; the last yaw rate is held"
+                         : (imu_.last_problem.empty() ? "OK" : imu_.last_problem);
+      for (const auto& [k, v] : {std::pair<std::string, std::size_t>{"messages", imu_.messages},
+                                 {"not a number", imu_.malformed},
+                                 {"late", imu_.late}}) {
+        diagnostic_msgs::KeyValue x;
+        x.key = k;
+        x.value = std::to_string(v);
+        g.values.push_back(x);
+      }
+      a.status.push_back(g);
+    }
     diagnostic_msgs::DiagnosticStatus s;
     s.name = "radar_ndt: odometry";
     s.level = diagnostic_msgs::DiagnosticStatus::OK;
@@ -374,6 +459,12 @@ class Node {
   EgoVelocity last_valid_;
   bool have_valid_ = false;
   std::vector<ChannelState> channel_state_;
+  ChannelState imu_;  ///< the IMU topic's counters (its mounting unused: only the yaw rate is fused)
+  bool use_gyro_ = false;
+  std::int64_t offset_us_ = 0;  ///< the gyro's clock minus the radars' (odometry.car.time_offset)
+  ros1::LiveYawRate yaw_;
+  std::int64_t stream_us_ = -1;     ///< the newest message time seen, on the radars' clock
+  std::deque<RadarCycle> pending_;  ///< complete cycles waiting for the gyro
   std::uint16_t reference_ = 0;
   std::unique_ptr<ros1::LiveCycles> live_;
   std::vector<RadarSweepData> waiting_;

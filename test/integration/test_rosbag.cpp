@@ -3,6 +3,7 @@
 // is; bad bags and bad clouds give errors that say what is wrong.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -17,6 +18,7 @@
 #include "radar_ndt/odometry/matcher.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/ros/live_cycles.h"
+#include "radar_ndt/ros/live_yaw_rate.h"
 #include "radar_ndt/ros/nuscenes_bag.h"
 #include "radar_ndt/ros/point_cloud2.h"
 #include "radar_ndt/ros/rosbag_sequence.h"
@@ -279,4 +281,44 @@ TEST(LiveCycles, PlansAsTheOfflinePlannerAsSweepsArrive) {
   EXPECT_EQ(live.flush().size() + out, 13u);
   live.reset();
   EXPECT_EQ(live.add(sweepAt(500000, 0)), ros1::LiveCycles::Added::Taken) << "after a reset, earlier times are taken";
+}
+
+// The node's gyro as messages arrive: the series the offline reader builds from the whole bag
+// (sorted, a repeated stamp's first value, NaN left out), a cycle released only once a sample at
+// or after its time has arrived (or the gyro is a second of the stream silent), integrals equal to
+// the whole series', late samples refused once their interval has been integrated.
+TEST(LiveYawRate, GrowsAsTheOfflineSeriesAndReleasesACycleOnceItIsReached) {
+  ros1::LiveYawRate live("/imu");
+  TimeSeries offline;
+  const std::vector<std::pair<std::int64_t, double>> arrivals{{0, 0.10},    {10000, 0.12}, {30000, 0.20}, {20000, 0.15},
+                                                              {30000, 9.0}, {40000, 0.25}, {50000, 0.30}};
+  for (const auto& [t, v] : arrivals) live.add(t, v);
+  for (const auto& [t, v] : std::vector<std::pair<std::int64_t, double>>{
+           {0, 0.10}, {10000, 0.12}, {20000, 0.15}, {30000, 0.20}, {40000, 0.25}, {50000, 0.30}}) {
+    offline.stamps_us.push_back(t);
+    offline.values.push_back(v);
+  }
+  const TimeSeries& s = live.signals()->yaw_rate;
+  EXPECT_EQ(s.stamps_us, offline.stamps_us) << "out of order to its place, the repeated stamp's first value";
+  EXPECT_EQ(s.values, offline.values);
+  EXPECT_EQ(live.add(60000, std::nan("")), ros1::LiveYawRate::Added::NotFinite);
+  EXPECT_EQ(live.signals()->dropped, 1u);
+  // A cycle ending at 45 ms is reached (50 ms is there); one at 55 ms not, until the gyro is silent
+  // for a second of the stream.
+  EXPECT_TRUE(live.reaches(45000, 60000));
+  EXPECT_TRUE(live.reaches(50000, 60000));
+  EXPECT_FALSE(live.reaches(55000, 60000));
+  EXPECT_FALSE(live.reaches(55000, 1055000));
+  EXPECT_TRUE(live.reaches(55000, 1055001));
+  // Integrating to 25 ms forgets what no later integral needs, nothing else.
+  EXPECT_DOUBLE_EQ(s.integral(5000, 25000), offline.integral(5000, 25000));
+  live.used(25000);
+  EXPECT_EQ(s.stamps_us.front(), 20000) << "the last sample at or before 25 ms is kept for the interpolation";
+  EXPECT_DOUBLE_EQ(s.integral(25000, 47000), offline.integral(25000, 47000));
+  EXPECT_EQ(live.add(24000, 1.0), ros1::LiveYawRate::Added::Late);
+  EXPECT_EQ(live.add(26000, 0.21), ros1::LiveYawRate::Added::Taken) << "after the integrated time: taken";
+  live.reset();
+  EXPECT_TRUE(live.signals()->yaw_rate.empty());
+  EXPECT_EQ(live.add(0, 0.1), ros1::LiveYawRate::Added::Taken) << "after a reset, earlier times are taken";
+  EXPECT_FALSE(live.reaches(1000, 1000));
 }

@@ -1,5 +1,6 @@
 #include "radar_ndt/io/scanning_sequence.h"
 #include "radar_ndt/io/boreas_ground_truth.h"
+#include "radar_ndt/io/boreas_imu.h"
 #include "radar_ndt/io/boreas_scan.h"
 #include "radar_ndt/io/oxford_ground_truth.h"
 #include "radar_ndt/io/oxford_scan.h"
@@ -140,6 +141,21 @@ PolarScan ScanningSequence::load(std::size_t k) const {
   }
   if (format_ == ScanFormat::Boreas) return readBoreasPolarPng(paths_[k], options_.boreas);
   return readRadiatePolarPng(paths_[k], stamps_[k], options_.radiate);
+}
+
+std::string ScanningSequence::formatName() const {
+  return toString(format_);
+}
+
+std::optional<VehicleSignals> ScanningSequence::gyro(std::string* why_not) const {
+  if (format_ != ScanFormat::Boreas) {
+    if (why_not)
+      *why_not = std::string("--imu: the ") + toString(format_) + " layout has no gyro file (boreas: applanix/imu.csv)";
+    return std::nullopt;
+  }
+  std::optional<VehicleSignals> imu = readBoreasImu(dir_);
+  if (!imu && why_not) *why_not = dir_ + "/applanix/imu.csv: missing";
+  return imu;
 }
 
 }  // namespace radar_ndt

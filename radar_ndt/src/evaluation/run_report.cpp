@@ -144,7 +144,7 @@ std::string summaryJson(const ScanningRunResult& r, const EvaluationReport* metr
   const auto& c = r.counters;
   json j;
   j["sequence"] = r.sequence;
-  j["format"] = toString(r.format);
+  j["format"] = r.format;
   j["method"] = r.method;
   j["scans"] = c.cycles;
   j["scan_period_s"] = r.period_s;
@@ -194,7 +194,7 @@ std::string summaryText(const ScanningRunResult& r) {
   std::string s = format(
       "%s: %zu scans (%s, %.2f Hz), %.0f points/scan: %s; s halved %zu, slow grid %zu; %zu "
       "problems\n",
-      r.sequence.c_str(), c.cycles, toString(r.format), r.period_s > 0 ? 1.0 / r.period_s : 0.0, r.median_points,
+      r.sequence.c_str(), c.cycles, r.format.c_str(), r.period_s > 0 ? 1.0 / r.period_s : 0.0, r.median_points,
       stepCounts(c).c_str(), c.shift_halved, c.slow, r.problems.size());
   s += format(
       "  ms per scan (median, one core): decode %.2f, front-end %.2f, match %.2f, total %.2f; end to end %.1f scans/s "

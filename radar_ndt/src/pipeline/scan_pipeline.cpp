@@ -9,7 +9,7 @@
 namespace radar_ndt {
 namespace detail {
 
-PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end,
+PreparedScan prepareScan(const ScanSource& sequence, const PowerThreshold& front_end,
                          const ChirpCorrectionOptions& chirp, std::size_t k, double voxel) {
   PreparedScan p;
   p.index = k;
@@ -23,7 +23,7 @@ PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold&
     std::size_t lit = 0;
     for (auto it = scan.power.begin(); it != scan.power.end() && lit < needed; ++it) lit += *it > 0;
     if (lit < needed)
-      throw std::runtime_error(sequence.path(k) + ": " + std::to_string(lit) + " of " +
+      throw std::runtime_error(sequence.scanName(k) + ": " + std::to_string(lit) + " of " +
                                std::to_string(scan.power.size()) + " bins above 0: no noise floor, a dead sensor");
     const auto t1 = Clock::now();
     p.chirp = correctChirps(scan, chirp, front_end.options().max_range);
@@ -43,9 +43,8 @@ PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold&
   return p;
 }
 
-void forEachPreparedScan(const ScanningSequence& sequence, const ScanFrontEnd& front_end, double voxel,
-                         std::size_t begin, std::size_t end, int threads,
-                         const std::function<void(PreparedScan&)>& consume) {
+void forEachPreparedScan(const ScanSource& sequence, const ScanFrontEnd& front_end, double voxel, std::size_t begin,
+                         std::size_t end, int threads, const std::function<void(PreparedScan&)>& consume) {
   // One front-end for every thread: its geometry cache (megabytes) is built once and shared.
   const PowerThreshold threshold(front_end.threshold);
   runOrdered<PreparedScan>(

@@ -11,7 +11,7 @@
 
 #include "radar_ndt/frontend/chirp_correction.h"
 #include "radar_ndt/frontend/power_threshold.h"
-#include "radar_ndt/io/scanning_sequence.h"
+#include "radar_ndt/io/scan_source.h"
 
 namespace radar_ndt {
 namespace detail {
@@ -34,14 +34,13 @@ struct PreparedScan {
 
 /// Scan k of `sequence`, its chirp shifts undone per `chirp`, through `front_end`, merged into
 /// voxels of `voxel` m when > 0.
-PreparedScan prepareScan(const ScanningSequence& sequence, const PowerThreshold& front_end,
+PreparedScan prepareScan(const ScanSource& sequence, const PowerThreshold& front_end,
                          const ChirpCorrectionOptions& chirp, std::size_t k, double voxel);
 
 /// Prepares scans [begin, end) of `sequence` on `threads` threads (runOrdered, ordered_pipeline.h)
 /// and calls `consume` with each, in order, one call at a time.
-void forEachPreparedScan(const ScanningSequence& sequence, const ScanFrontEnd& front_end, double voxel,
-                         std::size_t begin, std::size_t end, int threads,
-                         const std::function<void(PreparedScan&)>& consume);
+void forEachPreparedScan(const ScanSource& sequence, const ScanFrontEnd& front_end, double voxel, std::size_t begin,
+                         std::size_t end, int threads, const std::function<void(PreparedScan&)>& consume);
 
 }  // namespace detail
 }  // namespace radar_ndt

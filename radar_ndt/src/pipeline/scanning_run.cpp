@@ -1,5 +1,4 @@
 #include "radar_ndt/pipeline/scanning_run.h"
-#include "radar_ndt/io/boreas_imu.h"
 #include "radar_ndt/io/io_error.h"
 
 #include <algorithm>
@@ -47,28 +46,24 @@ struct ScanSamples {
   }
 };
 
-ScanningRunResult startResult(const ScanningSequence& sequence, const ScanningRunOptions& options) {
+ScanningRunResult startResult(const ScanSource& sequence, const ScanningRunOptions& options) {
   ScanningRunResult result;
   result.problems = sequence.indexProblems();
   result.sequence = sequence.name();
-  result.format = sequence.format();
+  result.format = sequence.formatName();
   result.method = options.matcher.method;
   result.threads = detail::resolveThreads(options.threads);
   result.period_s = sequence.periodSeconds();
   return result;
 }
 
-/// The sequence's gyro for `odometry` (Boreas: applanix/imu.csv); a sequence without one is run
-/// without it, and the problems say so once.
-void attachGyro(const ScanningSequence& sequence, ScanningOdometry& odometry, std::vector<std::string>& problems) {
-  if (sequence.format() != ScanFormat::Boreas) {
-    problems.push_back(std::string("--imu: the ") + toString(sequence.format()) +
-                       " layout has no gyro file (boreas: applanix/imu.csv): the run goes on without a gyro");
-    return;
-  }
-  std::optional<VehicleSignals> imu = readBoreasImu(sequence.directory());
+/// The sequence's gyro for `odometry` (Boreas: applanix/imu.csv; a bag: its IMU topic); a
+/// sequence without one is run without it, and the problems say so once.
+void attachGyro(const ScanSource& sequence, ScanningOdometry& odometry, std::vector<std::string>& problems) {
+  std::string why_not;
+  std::optional<VehicleSignals> imu = sequence.gyro(&why_not);
   if (!imu) {
-    problems.push_back(sequence.directory() + "/applanix/imu.csv: missing: the run goes on without a gyro");
+    problems.push_back(why_not + ": the run goes on without a gyro");
     return;
   }
   const std::int64_t first = sequence.stamp(0), last = sequence.stamp(sequence.size() - 1);
@@ -141,7 +136,7 @@ ScanningRunOptions defaultScanningOptions(const ScanningSequence& sequence) {
   return o;
 }
 
-ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const ScanningRunOptions& options,
+ScanningRunResult runScanningOdometry(const ScanSource& sequence, const ScanningRunOptions& options,
                                       const std::function<void(std::size_t, std::size_t)>& progress,
                                       const ScanCallback& on_scan) {
   options.validate();
@@ -174,7 +169,7 @@ ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const Sc
           const OdometryStep& step = odometry.addScan(ScanFrame{sequence.stamp(k), p.cloud});
           const std::string problem = problemOf(step, options.odometry, fallback);
           if (!problem.empty())
-            result.problems.push_back("scan " + std::to_string(k) + ": " + sequence.path(k) + ": " + problem);
+            result.problems.push_back("scan " + std::to_string(k) + ": " + sequence.scanName(k) + ": " + problem);
           samples.add(p, step);
           if (on_scan && step.status != StepStatus::Skipped)
             on_scan(k, step, atReferenceTime(*p.cloud, step, last_stamp_us, options.odometry.compensation.enabled));

@@ -20,6 +20,7 @@
 #include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/radiate_scan.h"
+#include "radar_ndt/io/scan_source.h"
 #include "radar_ndt/io/trajectory_io.h"
 
 namespace radar_ndt {
@@ -53,7 +54,7 @@ void ScanningSequenceOptions::fields(Visit&& visit) {
 }
 
 /// The scans of one sequence directory, in time order.
-class ScanningSequence {
+class ScanningSequence : public ScanSource {
  public:
   /// Reads the index (timestamps, frame list; boreas: the PNGs in radar/) and, for oxford and
   /// boreas, the ground truth when present.
@@ -61,23 +62,27 @@ class ScanningSequence {
   /// (unparsable, duplicated or out-of-order timestamps) are left out and listed in indexProblems().
   ScanningSequence(const std::string& dir, ScanFormat format, const ScanningSequenceOptions& options = {});
 
-  std::size_t size() const { return stamps_.size(); }
-  std::int64_t stamp(std::size_t k) const { return stamps_[k]; }
+  std::size_t size() const override { return stamps_.size(); }
+  std::int64_t stamp(std::size_t k) const override { return stamps_[k]; }
   const std::string& path(std::size_t k) const { return paths_[k]; }
+  std::string scanName(std::size_t k) const override { return paths_[k]; }
   /// Decodes scan k (throws IoError naming the file).
-  PolarScan load(std::size_t k) const;
+  PolarScan load(std::size_t k) const override;
   /// Median interval between scans (s).
-  double periodSeconds() const { return period_s_; }
-  const std::string& name() const { return name_; }
+  double periodSeconds() const override { return period_s_; }
+  const std::string& name() const override { return name_; }
   const std::string& directory() const { return dir_; }
   ScanFormat format() const { return format_; }
+  std::string formatName() const override;
   bool hasGroundTruth() const { return !ground_truth_.empty(); }
   /// SE(2) ground truth in the vehicle frame (x forward, y left), seconds; the first pose is the
   /// first scan the ground truth covers. Empty when the sequence has none.
-  const Trajectory& groundTruth() const { return ground_truth_; }
+  const Trajectory& groundTruth() const override { return ground_truth_; }
   /// Index lines (boreas: files in radar/ not named by a time) that were left out, each naming the
   /// file, the line and the problem.
-  const std::vector<std::string>& indexProblems() const { return index_problems_; }
+  const std::vector<std::string>& indexProblems() const override { return index_problems_; }
+  /// Boreas: applanix/imu.csv; the other layouts have no gyro file.
+  std::optional<VehicleSignals> gyro(std::string* why_not) const override;
 
  private:
   std::string dir_, name_;

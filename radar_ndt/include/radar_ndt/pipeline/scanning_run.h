@@ -84,7 +84,7 @@ constexpr float kBoreasChirpThreshold = 0.43f;
 
 struct ScanningRunResult {
   std::string sequence;
-  ScanFormat format = ScanFormat::Oxford;
+  std::string format = "oxford";  ///< the layout the scans came from (ScanSource::formatName)
   std::string method = "pw-ndt";
   double period_s = 0;
   Trajectory estimate;      ///< one pose per matched scan, seconds, first scan identity
@@ -110,7 +110,8 @@ struct ScanningRunResult {
 /// threads (not always the caller's).
 using ScanCallback = std::function<void(std::size_t, const OdometryStep&, const pcl::PointCloud<PointRadar>&)>;
 
-ScanningRunResult runScanningOdometry(const ScanningSequence& sequence, const ScanningRunOptions& options,
+/// The run over any source of scans (a dataset folder, a ROS bag).
+ScanningRunResult runScanningOdometry(const ScanSource& sequence, const ScanningRunOptions& options,
                                       const std::function<void(std::size_t, std::size_t)>& progress = nullptr,
                                       const ScanCallback& on_scan = nullptr);
 

@@ -230,8 +230,49 @@ RadarPointFields readFields(const Node& n) {
   return f;
 }
 
+PolarImageDescription readPolar(const Node& n) {
+  n.expectMap({"rows", "range_resolution", "range_offset_bins", "azimuth_zero", "azimuth_offset", "clockwise", "stamp",
+               "max_range"});
+  PolarImageDescription p;
+  const std::string rows = textOr(n, "rows", "");
+  if (rows == "azimuth")
+    p.rows_are_azimuths = true;
+  else if (rows == "range")
+    p.rows_are_azimuths = false;
+  else if (rows.empty())
+    n.fail("missing key 'rows': azimuth (a row an azimuth) or range (a column an azimuth)");
+  else
+    n.child("rows")->fail("'" + rows + "': rows are azimuth (a row an azimuth) or range (a column an azimuth)");
+  const auto res = n.child("range_resolution");
+  if (!res) n.fail("missing key 'range_resolution' (m per bin: the image does not carry it)");
+  p.convention.range_resolution = res->number();
+  if (!(p.convention.range_resolution > 0)) res->fail("must be > 0 (m per bin)");
+  if (const auto c = n.child("range_offset_bins")) p.convention.range_offset_bins = c->number();
+  if (const auto c = n.child("azimuth_zero")) p.convention.azimuth_zero = c->number();
+  if (const auto c = n.child("azimuth_offset")) p.azimuth_offset = c->number();
+  if (const auto c = n.child("clockwise")) {
+    const std::string t = c->text();
+    if (t != "true" && t != "false") c->fail("'" + t + "': true (azimuths grow clockwise seen from above) or false");
+    p.convention.clockwise = t == "true";
+  }
+  const std::string stamp = textOr(n, "stamp", "start");
+  if (stamp == "start")
+    p.stamp_position = 0.0;
+  else if (stamp == "middle")
+    p.stamp_position = 0.5;
+  else if (stamp == "end")
+    p.stamp_position = 1.0;
+  else
+    n.child("stamp")->fail("'" + stamp + "': the header stamp is the sweep's start, middle or end");
+  if (const auto r = n.child("max_range")) {
+    p.max_range = r->number();
+    if (!(p.max_range > 0)) r->fail("must be > 0 (m)");
+  }
+  return p;
+}
+
 RadarDescription readRadar(const Node& n) {
-  n.expectMap({"name", "topic", "kind", "frame", "mounting", "fields"});
+  n.expectMap({"name", "topic", "kind", "frame", "mounting", "fields", "polar"});
   RadarDescription r;
   const auto topic = n.child("topic");
   if (!topic) n.fail("missing key 'topic' (the ROS topic of its messages)");
@@ -247,6 +288,21 @@ RadarDescription readRadar(const Node& n) {
     n.child("kind")->fail("'" + kind + "': the kind is point_cloud or scanning");
   r.frame = textOr(n, "frame", "");
   if (const auto m = n.child("mounting")) r.mounting = readMounting(*m);
+  if (r.kind == RadarKind::Scanning) {
+    // The scanning pipeline's poses are the radar's own (as for the dataset folders): a mounting
+    // has nothing to act on, and point fields nothing to name.
+    if (n.child("mounting"))
+      n.child("mounting")
+          ->fail(
+              "a scanning radar's odometry is the radar's own: give no mounting (its heading is "
+              "polar.azimuth_zero)");
+    if (n.child("fields")) n.child("fields")->fail("a scanning radar has an image, not point fields: give 'polar'");
+    const auto polar = n.child("polar");
+    if (!polar) n.fail("missing key 'polar' (how the sweep lies in its sensor_msgs/Image)");
+    r.polar = readPolar(*polar);
+    return r;
+  }
+  if (n.child("polar")) n.child("polar")->fail("'polar' is for a scanning radar (kind: scanning)");
   const auto fields = n.child("fields");
   if (!fields) n.fail("missing key 'fields' (the names of its point fields)");
   r.fields = readFields(*fields);
@@ -293,6 +349,10 @@ SensorDescription readDescription(const Node& root, const std::string& source) {
     if (!topics.insert(r.topic).second) radars->at(i).fail("a second radar on topic '" + r.topic + "'");
     d.radars.push_back(std::move(r));
   }
+  const auto scanning = std::count_if(d.radars.begin(), d.radars.end(),
+                                      [](const RadarDescription& r) { return r.kind == RadarKind::Scanning; });
+  if (scanning > 0 && d.radars.size() > 1)
+    radars->fail("a scanning radar is run alone: describe one scanning radar, or point-cloud radars only");
   d.reference = textOr(root, "reference", "");
   if (!d.reference.empty() && !names.count(d.reference))
     root.child("reference")->fail("'" + d.reference + "' is none of the radars' names");

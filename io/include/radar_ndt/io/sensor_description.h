@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 
+#include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/radar_point_fields.h"
 
 namespace radar_ndt {
@@ -24,7 +25,7 @@ struct MountingDescription {
 
 enum class RadarKind {
   PointCloud,  ///< sensor_msgs/PointCloud2 detections (automotive and 4D radars)
-  Scanning,    ///< polar power images (Navtech); no ROS message layout is read yet (docs/ros.md)
+  Scanning,    ///< polar power images (Navtech) as sensor_msgs/Image (PolarImageDescription)
 };
 
 /// Where a message's time comes from.
@@ -32,6 +33,22 @@ enum class StampSource {
   Header,   ///< the message's header stamp
   Receive,  ///< the bag's receive time (the recorder's clock)
   Auto,     ///< the header stamp, or the receive time when the driver writes zero stamps (said once)
+};
+
+/// How a scanning radar's sweep lies in a sensor_msgs/Image (8 bits a bin, mono8 or 8UC1): the
+/// image carries only the powers, so the bins, the azimuths and the sweep's timing are described.
+struct PolarImageDescription {
+  /// true: a row an azimuth, a column a range bin (CFEAR's bags of Oxford); false: a column an
+  /// azimuth (Navtech's example ROS driver, CFEAR's bags of MulRan).
+  bool rows_are_azimuths = true;
+  /// The bins (range_resolution, range_offset_bins) and the direction and zero of the azimuths:
+  /// azimuth i of N lies at convention.toVehicleAngle(2π (i + azimuth_offset) / N).
+  PolarConvention convention{0.0438, 0.5, 0.0, true};
+  double azimuth_offset = 0.0;
+  /// Where in the sweep the header stamp is: 0 its first azimuth, 0.5 its middle, 1 its end; the
+  /// azimuths' times are spread evenly over one period (the median interval between sweeps).
+  double stamp_position = 0.0;
+  double max_range = 0.0;  ///< m; 0: every bin
 };
 
 struct RadarDescription {
@@ -42,7 +59,8 @@ struct RadarDescription {
   std::string frame;
   /// Where it sits on the vehicle; none: from the recording's /tf_static or /tf (base frame to `frame`).
   std::optional<MountingDescription> mounting;
-  RadarPointFields fields;
+  RadarPointFields fields;      ///< point-cloud radars
+  PolarImageDescription polar;  ///< scanning radars
 };
 
 struct SensorDescription {

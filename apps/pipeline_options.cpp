@@ -171,7 +171,8 @@ void addPipelineOptions(po::options_description& opts) {
     ("bag", po::value<std::string>(), "rosbag: the ROS 1 bag (docs/ros.md)")
     ("sensors", po::value<std::string>(),
      "rosbag: the sensor description (YAML: topics, fields, mountings; docs/ros.md), or preset:NAME "
-     "(nuscenes_ars408, ti_iwr6843_rio)")
+     "(nuscenes_ars408, ti_iwr6843_rio, navtech_oxford, navtech_boreas); a scanning radar's description runs the "
+     "scanning pipeline")
     ("dataroot", po::value<std::string>(), "nuscenes: the dataroot (holds v1.0-*/, samples/, sweeps/)")
     ("sequence", po::value<std::vector<std::string>>()->multitoken(),
      "oxford: a directory with radar.timestamps, radar/<stamp>.png and optionally "

@@ -112,7 +112,10 @@ void checkSettings(const PlanRequest& r) {
       for (const auto& a : args) argv.push_back(a.c_str());
       po::store(po::parse_command_line(static_cast<int>(argv.size()), argv.data(), opts), vm);
       po::notify(vm);
-      if (apps::pipelineOf(r.format) == apps::Pipeline::Automotive)
+      // A bag runs the pipeline of its described radar: a scanning radar's, or the automotive one.
+      const bool scanning_bag = r.format == "rosbag" && !r.sensors.empty() &&
+                                readSensorDescription(r.sensors).radars[0].kind == RadarKind::Scanning;
+      if (apps::pipelineOf(r.format) == apps::Pipeline::Automotive && !scanning_bag)
         apps::automotiveOptions(vm);
       else
         apps::scanningOptions(vm);

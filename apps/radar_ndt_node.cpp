@@ -88,6 +88,11 @@ class Node {
     std::string sensors;
     if (!pn.getParam("sensors", sensors)) throw std::invalid_argument("~sensors: the sensor description is required");
     d_ = readSensorDescription(sensors);
+    for (const RadarDescription& r : d_.radars)
+      if (r.kind == RadarKind::Scanning)
+        throw std::invalid_argument("~sensors: radar " + r.name +
+                                    " is a scanning radar: the node runs the automotive pipeline (a scanning "
+                                    "radar's bag: radar_odometry --format rosbag)");
     options_ = optionsFromParameters(pn);
     double period = 0;
     pn.param("cycle_period", period, 0.0);

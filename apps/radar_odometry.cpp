@@ -26,6 +26,7 @@
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/scanning_run.h"
 #ifdef RADAR_NDT_WITH_ROS
+#include "radar_ndt/ros/rosbag_scans.h"
 #include "radar_ndt/ros/rosbag_sequence.h"
 #endif
 
@@ -183,9 +184,32 @@ SensorDescription describedSensors(const po::variables_map& vm, const Automotive
 }
 
 #ifdef RADAR_NDT_WITH_ROS
+/// A scanning radar's bag: the scanning pipeline, with its options (the description's one radar).
+int runScanningBag(const po::variables_map& vm, const Outputs& o, const SensorDescription& d) {
+  const ScanningRunOptions options = apps::scanningOptions(vm);
+  const ros1::RosbagScanSequence bag(vm["bag"].as<std::string>(), d);
+  if (o.eval && bag.groundTruth().empty())
+    throw std::invalid_argument("--eval: " + bag.name() + " has no ground truth (" +
+                                (d.ground_truth_topic.empty() ? d.source + " names no ground_truth topic"
+                                                              : "no pose on " + d.ground_truth_topic) +
+                                ")");
+  RunMaps maps(o, true);
+  const ScanningRunResult r =
+      runScanningOdometry(bag, options, apps::Progress{o.progress, bag.name()}, maps.callback());
+  maps.write(o);
+  std::optional<EvaluationReport> report;
+  const json run = finish(r, bag.name(), o, report);
+  if (o.json) printJson({run}, {}, "sequences");
+  return reportFailures(o);
+}
+
 int runRosbag(const po::variables_map& vm, const Outputs& o) {
-  const AutomotiveRunOptions options = apps::automotiveOptions(vm);
   if (!vm.count("bag")) throw std::invalid_argument("--format rosbag needs --bag FILE");
+  if (!vm.count("sensors")) throw std::invalid_argument("--format rosbag needs --sensors FILE.yaml (or preset:NAME)");
+  const SensorDescription described = readSensorDescription(vm["sensors"].as<std::string>());
+  if (!described.radars.empty() && described.radars[0].kind == RadarKind::Scanning)
+    return runScanningBag(vm, o, described);
+  const AutomotiveRunOptions options = apps::automotiveOptions(vm);
   const ros1::RosbagRadarSequence bag(vm["bag"].as<std::string>(), describedSensors(vm, options));
   AutomotiveInputs inputs{bag, bag.vehicleSignals(), bag.problems()};
   if (options.odometry.car.wheels)

@@ -232,7 +232,7 @@ RadarPointFields readFields(const Node& n) {
 
 PolarImageDescription readPolar(const Node& n) {
   n.expectMap({"rows", "range_resolution", "range_offset_bins", "azimuth_zero", "azimuth_offset", "clockwise", "stamp",
-               "max_range"});
+               "sweep_period", "max_range"});
   PolarImageDescription p;
   const std::string rows = textOr(n, "rows", "");
   if (rows == "azimuth")
@@ -264,6 +264,10 @@ PolarImageDescription readPolar(const Node& n) {
     p.stamp_position = 1.0;
   else
     n.child("stamp")->fail("'" + stamp + "': the header stamp is the sweep's start, middle or end");
+  if (const auto c = n.child("sweep_period")) {
+    p.sweep_period = c->number();
+    if (!(p.sweep_period > 0)) c->fail("must be > 0 (s: one turn of the radar)");
+  }
   if (const auto r = n.child("max_range")) {
     p.max_range = r->number();
     if (!(p.max_range > 0)) r->fail("must be > 0 (m)");

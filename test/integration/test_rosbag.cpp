@@ -17,11 +17,15 @@
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/odometry/matcher.h"
 #include "radar_ndt/pipeline/automotive_run.h"
+#include "radar_ndt/pipeline/scanning_run.h"
 #include "radar_ndt/ros/live_cycles.h"
 #include "radar_ndt/ros/live_yaw_rate.h"
 #include "radar_ndt/ros/nuscenes_bag.h"
 #include "radar_ndt/ros/point_cloud2.h"
+#include "radar_ndt/ros/rosbag_scans.h"
 #include "radar_ndt/ros/rosbag_sequence.h"
+#include "radar_ndt/ros/scan_bag.h"
+#include <sensor_msgs/Image.h>
 
 using namespace radar_ndt;
 namespace fs = std::filesystem;
@@ -321,4 +325,101 @@ TEST(LiveYawRate, GrowsAsTheOfflineSeriesAndReleasesACycleOnceItIsReached) {
   EXPECT_TRUE(live.signals()->yaw_rate.empty());
   EXPECT_EQ(live.add(0, 0.1), ros1::LiveYawRate::Added::Taken) << "after a reset, earlier times are taken";
   EXPECT_FALSE(live.reaches(1000, 1000));
+}
+
+// A scanning radar's bag: the shared RADIATE scans written in CFEAR's image layout and read with
+// RADIATE's own convention run to the folder's trajectory bit for bit; the Oxford scans with the
+// navtech_oxford preset give the folder's powers and angles (the rows' recorded times are not in
+// the message, so the trajectories differ by the motion compensation alone).
+TEST(RosbagScans, ScansWrittenAsABagRunAsTheirFolder) {
+  const std::string radiate = std::string(RADAR_NDT_SHARED_DATA) + "/radiate-tiny-foggy";
+  const std::string oxford = std::string(RADAR_NDT_SHARED_DATA) + "/oxford-radar-real";
+  if (!fs::exists(radiate) || !fs::exists(oxford)) GTEST_SKIP() << "../shared/data is absent";
+  {
+    const ScanningSequence folder(radiate, ScanFormat::Radiate);
+    const std::string bag_path = tempPath("radiate.bag");
+    EXPECT_EQ(ros1::writeScanBag(folder, bag_path, ros1::BagCompression::Lz4).scans, folder.size());
+    const SensorDescription d = parseSensorDescription(
+        "radars:\n  - topic: /Navtech/Polar\n    kind: scanning\n    polar: {rows: azimuth, range_resolution: "
+        "0.173611, range_offset_bins: 0, clockwise: true, stamp: start, sweep_period: 0.25}\n",
+        "radiate.yaml");
+    const ros1::RosbagScanSequence bag(bag_path, d);
+    ASSERT_EQ(bag.size(), folder.size());
+    ScanningRunOptions o;
+    o.threads = 2;
+    const ScanningRunResult a = runScanningOdometry(bag, o), b = runScanningOdometry(folder, o);
+    EXPECT_EQ(a.format, "rosbag");
+    ASSERT_EQ(a.estimate.size(), b.estimate.size());
+    for (std::size_t i = 0; i < a.estimate.size(); ++i) {
+      EXPECT_EQ(a.estimate.stamps[i], b.estimate.stamps[i]);
+      EXPECT_TRUE(a.estimate.poses[i].matrix() == b.estimate.poses[i].matrix()) << "pose " << i;
+    }
+  }
+  const ScanningSequence folder(oxford, ScanFormat::Oxford);
+  const std::string bag_path = tempPath("oxford.bag");
+  ros1::writeScanBag(folder, bag_path);
+  const ros1::RosbagScanSequence bag(bag_path, readSensorDescription("preset:navtech_oxford"));
+  ASSERT_EQ(bag.size(), folder.size());
+  EXPECT_EQ(bag.groundTruth().size(), folder.groundTruth().size()) << "the ground truth on /gt";
+  for (std::size_t k : {std::size_t{0}, folder.size() - 1}) {
+    const PolarScan x = bag.load(k), y = folder.load(k);
+    EXPECT_EQ(x.stamp, y.stamp);
+    EXPECT_EQ(x.power, y.power);
+    ASSERT_EQ(x.angle.size(), y.angle.size());
+    for (std::size_t a = 0; a < x.angle.size(); ++a) EXPECT_NEAR(x.angle[a], y.angle[a], 1e-12) << a;
+    EXPECT_NEAR(static_cast<double>(x.stamp_us.back() - y.stamp_us.back()), 0.0, 5000.0);
+  }
+  const ScanningRunResult a = runScanningOdometry(bag, {}), b = runScanningOdometry(folder, {});
+  ASSERT_EQ(a.estimate.size(), b.estimate.size());
+  EXPECT_LT((a.estimate.poses.back().translation() - b.estimate.poses.back().translation()).norm(), 0.05);
+  std::string why;
+  EXPECT_FALSE(bag.gyro(&why));
+  EXPECT_NE(why.find("no imu topic"), std::string::npos) << why;
+}
+
+// Polar images that are not what the description says are said and left out; the run goes on.
+TEST(RosbagScans, BadImagesAreSaidAndLeftOut) {
+  const std::string path = tempPath("bad_scans.bag");
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Write);
+    for (int k = 0; k < 6; ++k) {
+      sensor_msgs::Image im;
+      im.header.stamp = ros::Time(100 + k / 4.0);
+      im.height = 40;  // azimuths, as columns here: rows are ranges
+      im.width = 16;
+      im.step = 16;
+      im.encoding = k == 2 ? "mono16" : "mono8";
+      im.data.resize(k == 4 ? 10 : im.step * im.height, 0);
+      for (std::size_t i = 0; i < im.data.size(); ++i) im.data[i] = static_cast<std::uint8_t>(i % 251);
+      bag.write("/radar/polar", im.header.stamp, im);
+    }
+  }
+  const SensorDescription d = parseSensorDescription(
+      "radars:\n  - topic: /radar/polar\n    kind: scanning\n    polar: {rows: range, range_resolution: 0.5, "
+      "stamp: end}\n",
+      "mine.yaml");
+  const ros1::RosbagScanSequence bag(path, d);
+  EXPECT_EQ(bag.size(), 4u);
+  EXPECT_EQ(bag.stats().unreadable_messages, 2u);
+  std::string problems;
+  for (const auto& p : bag.indexProblems()) problems += p + "\n";
+  EXPECT_NE(problems.find("mono16"), std::string::npos) << problems;
+  EXPECT_NE(problems.find("shorter"), std::string::npos) << problems;
+  // A column an azimuth: bin b of azimuth a is the image's (b, a); the stamp is the sweep's end.
+  const PolarScan scan = bag.load(0);
+  EXPECT_EQ(scan.azimuths, 16);
+  EXPECT_EQ(scan.bins, 40);
+  EXPECT_EQ(scan.row(3)[5], static_cast<std::uint8_t>((5 * 16 + 3) % 251));
+  EXPECT_EQ(scan.stamp_us.back(), scan.stamp);
+  EXPECT_LT(scan.stamp_us.front(), scan.stamp);
+  // A description of point-cloud radars, or an image topic read as clouds, is refused by name.
+  expectIoError([&] { ros1::RosbagScanSequence(path, readSensorDescription("preset:nuscenes_ars408")); },
+                {"one radar of kind scanning"});
+  expectIoError(
+      [&] {
+        ros1::RosbagRadarSequence(path, parseSensorDescription("radars:\n  - topic: /radar/polar\n    kind: scanning\n"
+                                                               "    polar: {rows: range, range_resolution: 0.5}\n",
+                                                               "mine.yaml"));
+      },
+      {"scanning radar"});
 }

@@ -131,6 +131,45 @@ TEST(SensorDescription, ABadFileNamesTheKeyAndTheLine) {
   expectError(std::string(kMinimal) + "stamps: gps\n", "stamps", "header, receive or auto");
 }
 
+// A scanning radar: its polar image's layout read, and what does not apply to it refused.
+TEST(SensorDescription, AScanningRadarIsDescribedByItsPolarImage) {
+  const SensorDescription d = parseSensorDescription(
+      "radars:\n  - topic: /Navtech/Polar\n    kind: scanning\n    polar: {rows: range, range_resolution: 0.175, "
+      "range_offset_bins: 0, azimuth_zero: 1.5, azimuth_offset: 0.5, clockwise: false, stamp: end, sweep_period: "
+      "0.25, max_range: 100}\n",
+      "t.yaml");
+  ASSERT_EQ(d.radars.size(), 1u);
+  const PolarImageDescription& p = d.radars[0].polar;
+  EXPECT_EQ(d.radars[0].kind, RadarKind::Scanning);
+  EXPECT_FALSE(p.rows_are_azimuths);
+  EXPECT_EQ(p.convention.range_resolution, 0.175);
+  EXPECT_EQ(p.convention.range_offset_bins, 0.0);
+  EXPECT_EQ(p.convention.azimuth_zero, 1.5);
+  EXPECT_FALSE(p.convention.clockwise);
+  EXPECT_EQ(p.azimuth_offset, 0.5);
+  EXPECT_EQ(p.stamp_position, 1.0);
+  EXPECT_EQ(p.sweep_period, 0.25);
+  EXPECT_EQ(p.max_range, 100.0);
+  const std::string head = "radars:\n  - topic: /p\n    kind: scanning\n";
+  expectError(head, "radars[0]", "missing key 'polar'");
+  expectError(head + "    polar: {range_resolution: 0.04}\n", "radars[0].polar", "missing key 'rows'");
+  expectError(head + "    polar: {rows: bearing, range_resolution: 0.04}\n", "radars[0].polar.rows", "azimuth");
+  expectError(head + "    polar: {rows: azimuth}\n", "radars[0].polar", "range_resolution");
+  expectError(head + "    polar: {rows: azimuth, range_resolution: 0}\n", "radars[0].polar.range_resolution", "> 0");
+  expectError(head + "    polar: {rows: azimuth, range_resolution: 0.04, stamp: late}\n", "radars[0].polar.stamp",
+              "start, middle or end");
+  expectError(head + "    polar: {rows: azimuth, range_resolution: 0.04, clockwise: yes}\n",
+              "radars[0].polar.clockwise", "true");
+  expectError(head + "    mounting: {x: 1}\n    polar: {rows: azimuth, range_resolution: 0.04}\n", "radars[0].mounting",
+              "the radar's own");
+  expectError(head + "    fields: {doppler: none}\n    polar: {rows: azimuth, range_resolution: 0.04}\n",
+              "radars[0].fields", "not point fields");
+  expectError("radars:\n  - topic: /r\n    fields: {doppler: none}\n    polar: {rows: azimuth}\n", "radars[0].polar",
+              "kind: scanning");
+  expectError(head + "    polar: {rows: azimuth, range_resolution: 0.04}\n  - {topic: /q, fields: {doppler: none}}\n",
+              "radars", "run alone");
+}
+
 TEST(SensorDescription, AMissingFileOrPresetIsNamed) {
   EXPECT_THROW(readSensorDescription(::testing::TempDir() + "no_such.yaml"), IoError);
   try {

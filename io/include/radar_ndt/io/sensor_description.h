@@ -46,8 +46,9 @@ struct PolarImageDescription {
   PolarConvention convention{0.0438, 0.5, 0.0, true};
   double azimuth_offset = 0.0;
   /// Where in the sweep the header stamp is: 0 its first azimuth, 0.5 its middle, 1 its end; the
-  /// azimuths' times are spread evenly over one period (the median interval between sweeps).
+  /// azimuths' times are spread evenly over `sweep_period` (s; 0: the median interval between sweeps).
   double stamp_position = 0.0;
+  double sweep_period = 0.0;
   double max_range = 0.0;  ///< m; 0: every bin
 };
 

@@ -212,9 +212,10 @@ int runRosbag(const po::variables_map& vm, const Outputs& o) {
   const AutomotiveRunOptions options = apps::automotiveOptions(vm);
   const ros1::RosbagRadarSequence bag(vm["bag"].as<std::string>(), describedSensors(vm, options));
   AutomotiveInputs inputs{bag, bag.vehicleSignals(), bag.problems()};
-  if (options.odometry.car.wheels)
-    throw std::invalid_argument("--wheels: a bag's wheel speeds are not read (docs/ros.md); --imu fuses its gyro");
-  if (options.odometry.car.gyro && !inputs.car)
+  if (options.odometry.car.wheels && (!inputs.car || inputs.car->speed.empty()))
+    throw std::invalid_argument("--wheels: " + vm["sensors"].as<std::string>() +
+                                " names no speed topic (docs/ros.md); --imu fuses the gyro");
+  if (options.odometry.car.gyro && (!inputs.car || inputs.car->yaw_rate.empty()))
     throw std::invalid_argument("--imu: " + vm["sensors"].as<std::string>() + " names no imu topic");
   if (!options.odometry.car.any()) inputs.car = nullptr;
   if (o.eval && bag.groundTruthTrajectory().empty())

@@ -327,7 +327,7 @@ void readGroundTruth(const Node& n, SensorDescription& d) {
 }
 
 SensorDescription readDescription(const Node& root, const std::string& source) {
-  root.expectMap({"name", "radars", "reference", "base_frame", "stamps", "imu", "ground_truth"});
+  root.expectMap({"name", "radars", "reference", "base_frame", "stamps", "imu", "speed", "ground_truth"});
   SensorDescription d;
   d.source = source;
   d.name = textOr(root, "name", "");
@@ -342,6 +342,7 @@ SensorDescription readDescription(const Node& root, const std::string& source) {
   else
     root.child("stamps")->fail("'" + stamps + "': stamps are header, receive or auto");
   d.imu_topic = textOr(root, "imu", "");
+  d.speed_topic = textOr(root, "speed", "");
   if (const auto gt = root.child("ground_truth")) readGroundTruth(*gt, d);
   const auto radars = root.child("radars");
   if (!radars) root.fail("missing key 'radars' (a list: one entry a radar)");

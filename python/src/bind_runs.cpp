@@ -174,8 +174,11 @@ void bindRosbagRun(py::module_& m) {
         o.validate();
         py::gil_scoped_release release;
         const ros1::RosbagRadarSequence bag(bag_path, readSensorDescription(sensors));
-        if (o.odometry.car.wheels)
-          throw std::invalid_argument("odometry.car.wheels: a bag's wheel speeds are not read");
+        const auto car = bag.vehicleSignals();
+        if (o.odometry.car.wheels && (!car || car->speed.empty()))
+          throw std::invalid_argument("odometry.car.wheels: " + sensors + " names no speed topic");
+        if (o.odometry.car.gyro && (!car || car->yaw_rate.empty()))
+          throw std::invalid_argument("odometry.car.gyro: " + sensors + " names no imu topic");
         AutomotiveInputs inputs{bag, o.odometry.car.any() ? bag.vehicleSignals() : nullptr, bag.problems()};
         return runAutomotiveOdometry(inputs, o, makeMatcher(o.matcher));
 #else

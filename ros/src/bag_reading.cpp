@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/TwistStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/Imu.h>
@@ -121,13 +122,15 @@ ros::Time StampRule::operator()(const ros::Time& header, const rosbag::MessageIn
 
 void MotionTopics::check(const OpenBag& bag) const {
   if (!d_.imu_topic.empty()) bag.expectType(d_.source, "imu", d_.imu_topic, {kImu});
+  if (!d_.speed_topic.empty()) bag.expectType(d_.source, "speed", d_.speed_topic, {kTwistStamped, kOdometry});
   if (!d_.ground_truth_topic.empty())
     bag.expectType(d_.source, "ground_truth", d_.ground_truth_topic, {kOdometry, kPoseStamped, kTf});
 }
 
 std::vector<std::string> MotionTopics::topics(const OpenBag& bag) const {
   std::vector<std::string> out;
-  for (const std::string& t : {d_.imu_topic, d_.ground_truth_topic, std::string("/tf"), std::string("/tf_static")})
+  for (const std::string& t :
+       {d_.imu_topic, d_.speed_topic, d_.ground_truth_topic, std::string("/tf"), std::string("/tf_static")})
     if (!t.empty() && bag.types.count(t)) out.push_back(t);
   return out;
 }
@@ -145,6 +148,18 @@ bool MotionTopics::take(const rosbag::MessageInstance& m, StampRule& stamps, std
       ++imu_messages_;
       imu_.emplace_back(microseconds(stamps(imu->header.stamp, m, problems)), rate);
     }
+  }
+  if (topic == d_.speed_topic) {
+    const bool odometry = m.getDataType() == kOdometry;
+    const auto o = odometry ? m.instantiate<nav_msgs::Odometry>() : nullptr;
+    const auto t = odometry ? nullptr : m.instantiate<geometry_msgs::TwistStamped>();
+    const double v = odometry ? o->twist.twist.linear.x : t->twist.linear.x;
+    if (!std::isfinite(v))
+      ++speed_dropped_;
+    else
+      speed_.emplace_back(microseconds(stamps(odometry ? o->header.stamp : t->header.stamp, m, problems)), v);
+    if (topic == d_.ground_truth_topic) takePose(m, stamps, problems);  // one Odometry topic may be both
+    return true;
   }
   if (topic == "/tf" || topic == "/tf_static" || (topic == d_.ground_truth_topic && m.getDataType() == kTf)) {
     takeTf(m);
@@ -191,23 +206,43 @@ const Eigen::Isometry3d* MotionTopics::edge(const std::string& frame) const {
   return it == edges_.end() ? nullptr : &it->second;
 }
 
+namespace {
+
+/// Samples sorted by stamp (stable), the first of a repeated stamp kept.
+TimeSeries seriesOf(std::vector<std::pair<std::int64_t, double>>& samples) {
+  std::stable_sort(samples.begin(), samples.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  TimeSeries s;
+  for (const auto& [t, v] : samples) {
+    if (!s.stamps_us.empty() && t == s.stamps_us.back()) continue;
+    s.stamps_us.push_back(t);
+    s.values.push_back(v);
+  }
+  return s;
+}
+
+}  // namespace
+
 void MotionTopics::finish(std::shared_ptr<const VehicleSignals>& signals_out, Trajectory& ground_truth,
                           std::vector<std::string>& problems) {
-  if (!d_.imu_topic.empty()) {
-    std::stable_sort(imu_.begin(), imu_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  if (!d_.imu_topic.empty() || !d_.speed_topic.empty()) {
     auto signals = std::make_shared<VehicleSignals>();
-    signals->source = path_ + ":" + d_.imu_topic;
-    signals->dropped = imu_dropped_;
-    for (const auto& [t, v] : imu_) {
-      if (!signals->yaw_rate.stamps_us.empty() && t == signals->yaw_rate.stamps_us.back()) continue;
-      signals->yaw_rate.stamps_us.push_back(t);
-      signals->yaw_rate.values.push_back(v);
+    signals->source = path_ + ":" + (d_.imu_topic.empty() ? d_.speed_topic : d_.imu_topic);
+    signals->dropped = imu_dropped_ + speed_dropped_;
+    if (!d_.imu_topic.empty()) {
+      signals->yaw_rate = seriesOf(imu_);
+      if (signals->yaw_rate.empty())
+        throw IoError(path_, "imu topic " + d_.imu_topic + " has no message with a yaw rate");
     }
-    if (signals->yaw_rate.empty())
-      throw IoError(path_, "imu topic " + d_.imu_topic + " has no message with a yaw rate");
     if (imu_dropped_ > 0)
       problems.push_back(d_.imu_topic + ": " + std::to_string(imu_dropped_) +
                          " messages without a finite yaw rate left out");
+    if (!d_.speed_topic.empty()) {
+      signals->speed = seriesOf(speed_);
+      if (signals->speed.empty()) throw IoError(path_, "speed topic " + d_.speed_topic + " has no finite speed");
+    }
+    if (speed_dropped_ > 0)
+      problems.push_back(d_.speed_topic + ": " + std::to_string(speed_dropped_) +
+                         " messages without a finite speed left out");
     signals_out = std::move(signals);
   }
   std::stable_sort(poses_.begin(), poses_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });

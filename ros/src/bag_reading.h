@@ -29,6 +29,7 @@ constexpr const char* kImu = "sensor_msgs/Imu";
 constexpr const char* kOdometry = "nav_msgs/Odometry";
 constexpr const char* kPoseStamped = "geometry_msgs/PoseStamped";
 constexpr const char* kTf = "tf2_msgs/TFMessage";
+constexpr const char* kTwistStamped = "geometry_msgs/TwistStamped";
 
 /// "12.345678 s", for messages.
 std::string seconds(const ros::Time& t);
@@ -89,8 +90,8 @@ class MotionTopics {
   bool take(const rosbag::MessageInstance& m, StampRule& stamps, std::vector<std::string>& problems);
   /// The transform base frame → `frame`, first seen in /tf_static or /tf; null when none.
   const Eigen::Isometry3d* edge(const std::string& frame) const;
-  /// The yaw rate (null without an IMU topic; IoError when it has no finite value), the
-  /// ground truth in time order, and what was met.
+  /// The yaw rate and the speed (null without an IMU or speed topic; IoError when a named one has
+  /// no finite value), the ground truth in time order, and what was met.
   void finish(std::shared_ptr<const VehicleSignals>& signals, Trajectory& ground_truth,
               std::vector<std::string>& problems);
   std::size_t imuMessages() const { return imu_messages_; }
@@ -103,9 +104,9 @@ class MotionTopics {
   const SensorDescription& d_;
   std::string path_;
   std::map<std::string, Eigen::Isometry3d> edges_;
-  std::vector<std::pair<std::int64_t, double>> imu_;
+  std::vector<std::pair<std::int64_t, double>> imu_, speed_;
   std::vector<std::pair<std::int64_t, Eigen::Isometry3d>> poses_;
-  std::size_t imu_dropped_ = 0, imu_messages_ = 0;
+  std::size_t imu_dropped_ = 0, imu_messages_ = 0, speed_dropped_ = 0;
   ProblemLog log_;
 };
 

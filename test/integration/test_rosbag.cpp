@@ -14,6 +14,7 @@
 
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/nuscenes.h"
+#include "radar_ndt/io/nuscenes_can_bus.h"
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/odometry/matcher.h"
 #include "radar_ndt/pipeline/automotive_run.h"
@@ -22,9 +23,11 @@
 #include "radar_ndt/ros/live_yaw_rate.h"
 #include "radar_ndt/ros/nuscenes_bag.h"
 #include "radar_ndt/ros/point_cloud2.h"
+#include "radar_ndt/ros/ros_time.h"
 #include "radar_ndt/ros/rosbag_scans.h"
 #include "radar_ndt/ros/rosbag_sequence.h"
 #include "radar_ndt/ros/scan_bag.h"
+#include <geometry_msgs/TwistStamped.h>
 #include <sensor_msgs/Image.h>
 
 using namespace radar_ndt;
@@ -422,4 +425,51 @@ TEST(RosbagScans, BadImagesAreSaidAndLeftOut) {
                                                                "mine.yaml"));
       },
       {"scanning radar"});
+}
+
+// A car's speed topic (geometry_msgs/TwistStamped, m/s) is what --wheels fuses from a bag: a
+// scene's bag with its rear wheels' speed added as such a topic runs, with the wheels and the gyro,
+// to the scene's own wheel-and-gyro trajectory (the same integral in m/s, not rpm: equal to
+// rounding).
+TEST(Rosbag, ASpeedTopicIsWhatTheWheelsFuse) {
+  if (!fs::exists(kNuScenes)) GTEST_SKIP() << "no " << kNuScenes << " (../shared/data is absent)";
+  const NuScenesDataset dataset(kNuScenes);
+  const NuScenesScene& scene = dataset.scenes()[1];
+  const std::string path = tempPath("speed.bag");
+  ros1::writeNuScenesBag(dataset, scene, path);
+  AutomotiveRunOptions options;
+  options.threads = 1;
+  options.odometry.car.gyro = options.odometry.car.wheels = true;
+  const std::optional<VehicleSignals> can = readNuScenesCanBus(kNuScenes, scene.name);
+  ASSERT_TRUE(can && !can->rear_wheel_rpm.empty());
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Append);
+    for (std::size_t i = 0; i < can->rear_wheel_rpm.size(); ++i) {
+      geometry_msgs::TwistStamped t;
+      t.header.stamp = ros1::rosTime(can->rear_wheel_rpm.stamps_us[i]);
+      t.twist.linear.x =
+          can->rear_wheel_rpm.values[i] / 60.0 * 2.0 * std::acos(-1.0) * options.odometry.car.wheel_radius;
+      bag.write("/vehicle/twist", t.header.stamp, t);
+    }
+  }
+  SensorDescription d = readSensorDescription("preset:nuscenes_ars408");
+  d.speed_topic = "/vehicle/twist";
+  const ros1::RosbagRadarSequence bag(path, d);
+  ASSERT_TRUE(bag.vehicleSignals());
+  EXPECT_EQ(bag.vehicleSignals()->speed.size(), can->rear_wheel_rpm.size());
+  const AutomotiveRunResult from_scene = runAutomotiveOdometry(dataset, scene, options);
+  const AutomotiveRunResult from_bag =
+      runAutomotiveOdometry(AutomotiveInputs{bag, bag.vehicleSignals(), {}}, options, makeMatcher(options.matcher));
+  ASSERT_EQ(from_bag.estimate.size(), from_scene.estimate.size());
+  for (std::size_t k = 0; k < from_bag.estimate.size(); ++k)
+    ASSERT_LT((from_bag.estimate.poses[k].translation() - from_scene.estimate.poses[k].translation()).norm(), 1e-6)
+        << k;
+  // Without the speed, the wheels' prior differs: the topic is what was used.
+  AutomotiveRunOptions gyro_only = options;
+  gyro_only.odometry.car.wheels = false;
+  const AutomotiveRunResult no_wheels = runAutomotiveOdometry(dataset, scene, gyro_only);
+  EXPECT_GT((no_wheels.estimate.poses.back().translation() - from_bag.estimate.poses.back().translation()).norm(),
+            1e-4);
+  d.speed_topic = "/imu";  // a topic of another type
+  expectIoError([&] { ros1::RosbagRadarSequence(path, d); }, {"speed topic /imu carries sensor_msgs/Imu"});
 }

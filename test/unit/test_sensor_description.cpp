@@ -59,6 +59,7 @@ name: my car
 base_frame: vehicle
 stamps: receive
 imu: /imu/data
+speed: /vehicle/twist
 ground_truth: {topic: /gt, parent: world, child: vehicle}
 reference: front
 radars:
@@ -80,6 +81,7 @@ radars:
   EXPECT_EQ(d.base_frame, "vehicle");
   EXPECT_EQ(d.stamps, StampSource::Receive);
   EXPECT_EQ(d.imu_topic, "/imu/data");
+  EXPECT_EQ(d.speed_topic, "/vehicle/twist");
   EXPECT_EQ(d.ground_truth_topic, "/gt");
   EXPECT_EQ(d.ground_truth_parent, "world");
   EXPECT_EQ(d.reference, "front");

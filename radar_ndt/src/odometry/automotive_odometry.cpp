@@ -122,6 +122,9 @@ CarMotion AutomotiveOdometry::carMotion(std::int64_t t0_us, std::int64_t t1_us) 
     // rpm × 2π r / 60 is m/s: the revolutions' integral times the circumference.
     car.distance = signals_->rear_wheel_rpm.integral(t0_us + offset, t1_us + offset) / 60.0 * 2.0 * kPi *
                    options_.car.wheel_radius;
+  } else if (options_.car.wheels && !signals_->speed.empty()) {
+    car.has_distance = true;
+    car.distance = signals_->speed.integral(t0_us + offset, t1_us + offset);
   }
   return car;
 }

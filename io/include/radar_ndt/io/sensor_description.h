@@ -74,6 +74,9 @@ struct SensorDescription {
   /// sensor_msgs/Imu of the vehicle: its angular_velocity.z is the yaw rate (a gyro mounted
   /// with z up in the base frame); empty: none.
   std::string imu_topic;
+  /// The vehicle's forward speed (what --wheels fuses): geometry_msgs/TwistStamped or
+  /// nav_msgs/Odometry, twist.linear.x in m/s; empty: none.
+  std::string speed_topic;
   /// Ground truth: a nav_msgs/Odometry or geometry_msgs/PoseStamped topic, or tf2_msgs/TFMessage
   /// (/tf) with the transform `ground_truth_parent` → `ground_truth_child`; empty topic: none.
   std::string ground_truth_topic;

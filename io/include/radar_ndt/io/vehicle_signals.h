@@ -13,8 +13,11 @@ namespace radar_ndt {
 struct VehicleSignals {
   TimeSeries yaw_rate;        ///< rad/s about z up (counter-clockwise positive)
   TimeSeries rear_wheel_rpm;  ///< the rear wheels' mean speed, rpm (× 2π r / 60: m/s)
-  std::size_t dropped = 0;    ///< messages left out for a missing (NaN) value
-  std::string source;         ///< where they were read from, for messages
+  /// The vehicle's forward speed, m/s, where a recording gives it instead of the wheels' rpm (a ROS
+  /// speed topic); the rpm are used when there are both.
+  TimeSeries speed;
+  std::size_t dropped = 0;  ///< messages left out for a missing (NaN) value
+  std::string source;       ///< where they were read from, for messages
 };
 
 }  // namespace radar_ndt

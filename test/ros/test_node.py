@@ -82,7 +82,10 @@ def run_node(env, work, bag, rate, name, *params):
     record = subprocess.Popen(["rosbag", "record", "-O", str(recorded), "/radar_ndt/odometry", "/diagnostics"],
                               env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     time.sleep(3)  # the node and the recorder subscribed
-    subprocess.run(["rosbag", "play", "-q", "-r", str(rate), bag, "--topics", "/RADAR_FRONT", "/RADAR_FRONT_LEFT",
+    # -d: a pause after advertising, so that the node's subscriptions are connected before the first
+    # messages go out (a message published before its subscriber connects is lost: under load the
+    # IMU's first samples were, and the gyro's integral to the second cycle with them).
+    subprocess.run(["rosbag", "play", "-q", "-d", "2", "-r", str(rate), bag, "--topics", "/RADAR_FRONT", "/RADAR_FRONT_LEFT",
                     "/RADAR_FRONT_RIGHT", "/RADAR_BACK_LEFT", "/RADAR_BACK_RIGHT", "/tf", "/imu"],
                    env=env, check=True, capture_output=True)
     time.sleep(3)  # the last cycles flushed and recorded

@@ -88,7 +88,9 @@ def run_node(env, work, bag, rate, name, *params):
     subprocess.run(["rosbag", "play", "-q", "-d", "2", "-r", str(rate), bag, "--topics", "/RADAR_FRONT", "/RADAR_FRONT_LEFT",
                     "/RADAR_FRONT_RIGHT", "/RADAR_BACK_LEFT", "/RADAR_BACK_RIGHT", "/tf", "/imu"],
                    env=env, check=True, capture_output=True)
-    time.sleep(3)  # the last cycles flushed and recorded
+    # The last cycles flushed (after ~flush_after of quiet) and recorded; a slow build (ASan) is still
+    # working off its queue of cycles when a bag played at 10x ends.
+    time.sleep(8)
     record.send_signal(2)
     record.wait(timeout=30)
     node.send_signal(2)

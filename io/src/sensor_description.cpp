@@ -220,7 +220,10 @@ RadarPointFields readFields(const Node& n) {
   if (const auto k = n.child("keep")) {
     if (!k->isMap()) k->fail("expected field: [values kept, ...]");
     for (const std::string& name : k->keys()) {
-      const Node values = *k->child(name);
+      // A key without a value (`keep: {state: }`), or one a YAML alias made no scalar, has no child.
+      const std::optional<Node> child = k->child(name);
+      if (!child) k->fail("'" + name + "': expected a list of the integer values kept");
+      const Node& values = *child;
       if (!values.isSequence()) values.fail("expected a list of the integer values kept");
       std::vector<int> v;
       for (std::size_t i = 0; i < values.size(); ++i) v.push_back(values.at(i).integer());
@@ -283,6 +286,7 @@ RadarDescription readRadar(const Node& n) {
   r.topic = topic->text();
   if (r.topic.empty()) topic->fail("empty topic");
   r.name = textOr(n, "name", r.topic);
+  if (r.name.empty()) n.child("name")->fail("empty name (a tag without a value is one)");
   const std::string kind = textOr(n, "kind", "point_cloud");
   if (kind == "point_cloud")
     r.kind = RadarKind::PointCloud;

@@ -129,6 +129,10 @@ TEST(SensorDescription, ABadFileNamesTheKeyAndTheLine) {
       "radars:\n  - {topic: /a, fields: {doppler: {radial: v}}}\n  - {topic: /a, name: b, fields: {doppler: {radial: "
       "v}}}\n",
       "radars[1]", "second radar on topic");
+  expectError("radars:\n  - {name: !front, topic: /r, fields: {doppler: {radial: v}}}\n", "radars[0].name",
+              "empty name");
+  expectError("radars:\n  - topic: /r\n    fields: {doppler: {radial: v}, keep: {q: }}\n", "radars[0].fields.keep",
+              "'q': expected a list");
   expectError(std::string(kMinimal) + "reference: rear\n", "reference", "none of the radars");
   expectError(std::string(kMinimal) + "stamps: gps\n", "stamps", "header, receive or auto");
 }

@@ -34,13 +34,7 @@ int main(int argc, char** argv) {
   const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
   if (rc >= 0) return rc;
   return apps::runGuarded("radar_nuscenes_to_bag", [&]() {
-    ros1::BagCompression compression = ros1::BagCompression::None;
-    if (compression_text == "bz2")
-      compression = ros1::BagCompression::Bz2;
-    else if (compression_text == "lz4")
-      compression = ros1::BagCompression::Lz4;
-    else if (compression_text != "none")
-      throw std::invalid_argument("--compression must be none, bz2 or lz4, not '" + compression_text + "'");
+    const ros1::BagCompression compression = ros1::parseBagCompression(compression_text);
     const NuScenesDataset dataset(dataroot, version);
     std::filesystem::create_directories(out);
     for (const auto& scene : dataset.scenes()) {

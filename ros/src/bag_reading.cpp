@@ -20,6 +20,13 @@ namespace radar_ndt {
 namespace ros1 {
 namespace detail {
 
+void openForWriting(rosbag::Bag& bag, const std::string& path, BagCompression compression) {
+  bag.open(path, rosbag::bagmode::Write);
+  bag.setCompression(compression == BagCompression::Bz2   ? rosbag::compression::BZ2
+                     : compression == BagCompression::Lz4 ? rosbag::compression::LZ4
+                                                          : rosbag::compression::Uncompressed);
+}
+
 std::string seconds(const ros::Time& t) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%u.%06u s", t.sec, t.nsec / 1000);

@@ -18,6 +18,7 @@
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/io/vehicle_signals.h"
+#include "radar_ndt/ros/nuscenes_bag.h"
 
 namespace radar_ndt {
 namespace ros1 {
@@ -30,6 +31,9 @@ constexpr const char* kOdometry = "nav_msgs/Odometry";
 constexpr const char* kPoseStamped = "geometry_msgs/PoseStamped";
 constexpr const char* kTf = "tf2_msgs/TFMessage";
 constexpr const char* kTwistStamped = "geometry_msgs/TwistStamped";
+
+/// Opens `path` for writing (replaced), its chunks compressed as asked (the writers').
+void openForWriting(rosbag::Bag& bag, const std::string& path, BagCompression compression);
 
 /// "12.345678 s", for messages.
 std::string seconds(const ros::Time& t);

@@ -10,6 +10,7 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include "bag_reading.h"
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/nuscenes_can_bus.h"
 #include "radar_ndt/ros/ros_time.h"
@@ -124,15 +125,19 @@ std::size_t writeImu(rosbag::Bag& bag, const NuScenesDataset& dataset, const NuS
 
 }  // namespace
 
+BagCompression parseBagCompression(const std::string& text) {
+  if (text == "none") return BagCompression::None;
+  if (text == "bz2") return BagCompression::Bz2;
+  if (text == "lz4") return BagCompression::Lz4;
+  throw std::invalid_argument("--compression must be none, bz2 or lz4, not '" + text + "'");
+}
+
 NuScenesBagStats writeNuScenesBag(const NuScenesDataset& dataset, const NuScenesScene& scene, const std::string& path,
                                   BagCompression compression) {
   NuScenesBagStats stats;
   rosbag::Bag bag;
   try {
-    bag.open(path, rosbag::bagmode::Write);
-    bag.setCompression(compression == BagCompression::Bz2   ? rosbag::compression::BZ2
-                       : compression == BagCompression::Lz4 ? rosbag::compression::LZ4
-                                                            : rosbag::compression::Uncompressed);
+    detail::openForWriting(bag, path, compression);
     for (const NuScenesSweep& s : dataset.radarSweeps(scene)) {
       const ros::Time stamp = rosTime(s.timestamp_us);
       tf2_msgs::TFMessage tf;

@@ -7,6 +7,7 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
 
+#include "bag_reading.h"
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/ros/ros_time.h"
 
@@ -17,10 +18,7 @@ ScanBagStats writeScanBag(const ScanningSequence& sequence, const std::string& p
   ScanBagStats stats;
   rosbag::Bag bag;
   try {
-    bag.open(path, rosbag::bagmode::Write);
-    bag.setCompression(compression == BagCompression::Bz2   ? rosbag::compression::BZ2
-                       : compression == BagCompression::Lz4 ? rosbag::compression::LZ4
-                                                            : rosbag::compression::Uncompressed);
+    detail::openForWriting(bag, path, compression);
     for (std::size_t k = 0; k < sequence.size(); ++k) {
       PolarScan scan;
       try {

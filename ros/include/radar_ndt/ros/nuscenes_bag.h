@@ -14,6 +14,8 @@ namespace radar_ndt {
 namespace ros1 {
 
 enum class BagCompression { None, Bz2, Lz4 };
+/// "none" | "bz2" | "lz4" (the apps' --compression); std::invalid_argument naming another.
+BagCompression parseBagCompression(const std::string& text);
 
 struct NuScenesBagStats {
   std::size_t radar_messages = 0, tf_messages = 0, imu_messages = 0;

@@ -63,7 +63,7 @@ const OdometryStep& ScanningOdometry::addScan(const ScanFrame& scan) {
 void ScanningOdometry::gyroPrior(std::int64_t t0_us, std::int64_t t1_us, double dt, OdometryStep& step) {
   // The translation stays the constant-velocity one; the yaw is the gyro's, bias removed.
   const auto offset = static_cast<std::int64_t>(std::llround(options_.gyro.time_offset * 1e6));
-  step.prior_motion.z() = gyro_.predict(yaw_rate_.integral(t0_us + offset, t1_us + offset), dt);
+  step.prior_motion.z() = gyro_.predict(yaw_rate_->integral(t0_us + offset, t1_us + offset), dt);
 }
 
 const OdometryStep& ScanningOdometry::addFirstScan(const ScanFrame& scan, OdometryStep& step) {

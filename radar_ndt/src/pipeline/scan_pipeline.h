@@ -36,6 +36,10 @@ struct PreparedScan {
 /// voxels of `voxel` m when > 0.
 PreparedScan prepareScan(const ScanSource& sequence, const PowerThreshold& front_end,
                          const ChirpCorrectionOptions& chirp, std::size_t k, double voxel);
+/// The same for a scan already decoded (a live one), `name` naming it in the problem;
+/// `read_ms` is left to the caller.
+PreparedScan prepareDecodedScan(PolarScan scan, const std::string& name, const PowerThreshold& front_end,
+                                const ChirpCorrectionOptions& chirp, double voxel);
 
 /// Prepares scans [begin, end) of `sequence` on `threads` threads (runOrdered, ordered_pipeline.h)
 /// and calls `consume` with each, in order, one call at a time.

@@ -118,6 +118,42 @@ pcl::PointCloud<PointRadar> atReferenceTime(const pcl::PointCloud<PointRadar>& s
   return out;
 }
 
+/// A matcher that merges its source itself gets the full scans; the others merged points.
+double voxelFor(const ScanningRunOptions& options) {
+  return findMatcher(options.matcher.method).uses.merges_source ? 0.0 : options.pcl_voxel_size;
+}
+
+/// One prepared scan into the odometry, the same for a run and a stream: matched, or bridged when
+/// it could not be read.
+class ScanStepper {
+ public:
+  ScanStepper(ScanningOdometry& odometry, const ScanningRunOptions& options) : odometry_(odometry), options_(options) {}
+
+  /// The step `p` (stamped `stamp_us`) made, or null when it was bridged (`*problem` says why);
+  /// `*problem` is also set for a step no match was made for. With `at_reference`, the scan's
+  /// points at its reference time for a step that was not skipped.
+  const OdometryStep* add(detail::PreparedScan& p, std::int64_t stamp_us, std::string* problem,
+                          pcl::PointCloud<PointRadar>* at_reference) {
+    if (!p.cloud) {
+      *problem = p.problem;
+      odometry_.bridge(stamp_us);
+      return nullptr;
+    }
+    const OdometryStep& step = odometry_.addScan(ScanFrame{stamp_us, p.cloud});
+    *problem = problemOf(step, options_.odometry,
+                         odometry_.usesGyro() ? "the prior (constant velocity, gyro yaw)" : "constant-velocity motion");
+    if (at_reference && step.status != StepStatus::Skipped)
+      *at_reference = atReferenceTime(*p.cloud, step, last_stamp_us_, options_.odometry.compensation.enabled);
+    if (step.status != StepStatus::Skipped) last_stamp_us_ = step.timestamp_us;
+    return &step;
+  }
+
+ private:
+  ScanningOdometry& odometry_;
+  const ScanningRunOptions& options_;
+  std::int64_t last_stamp_us_ = 0;  ///< of the last scan that was matched (or dead-reckoned)
+};
+
 }  // namespace
 
 ScanningRunOptions defaultScanningOptions(const ScanningSequence& sequence) {
@@ -150,30 +186,24 @@ ScanningRunResult runScanningOdometry(const ScanSource& sequence, const Scanning
   ScanningRunResult result = startResult(sequence, options);
   if (options.odometry.gyro.enabled) attachGyro(sequence, odometry, result.problems);
   if (odometry.usesGyro()) result.prior = "constant velocity, gyro yaw";
-  const std::string fallback = odometry.usesGyro() ? "the prior (" + result.prior + ")" : "constant-velocity motion";
+  ScanStepper stepper(odometry, options);
   ScanSamples samples;
   const auto wall0 = Clock::now();
-  // A matcher that merges its source itself gets the full scans; the others merged points.
-  const double voxel = findMatcher(options.matcher.method).uses.merges_source ? 0.0 : options.pcl_voxel_size;
-  std::int64_t last_stamp_us = 0;  // of the last scan that was matched (or dead-reckoned)
   // Scans are prepared on the worker threads and matched here in order, one at a time.
   detail::forEachPreparedScan(
-      sequence, detail::ScanFrontEnd{options.front_end, options.chirp}, voxel, options.start, end, result.threads,
-      [&](detail::PreparedScan& p) {
+      sequence, detail::ScanFrontEnd{options.front_end, options.chirp}, voxelFor(options), options.start, end,
+      result.threads, [&](detail::PreparedScan& p) {
         const std::size_t k = p.index;
-        if (!p.cloud) {
-          result.problems.push_back("scan " + std::to_string(k) + ": " + p.problem +
-                                    " (bridged with the motion model)");
-          odometry.bridge(sequence.stamp(k));
+        std::string problem;
+        pcl::PointCloud<PointRadar> at_reference;
+        const OdometryStep* step = stepper.add(p, sequence.stamp(k), &problem, on_scan ? &at_reference : nullptr);
+        if (!step) {
+          result.problems.push_back("scan " + std::to_string(k) + ": " + problem + " (bridged with the motion model)");
         } else {
-          const OdometryStep& step = odometry.addScan(ScanFrame{sequence.stamp(k), p.cloud});
-          const std::string problem = problemOf(step, options.odometry, fallback);
           if (!problem.empty())
             result.problems.push_back("scan " + std::to_string(k) + ": " + sequence.scanName(k) + ": " + problem);
-          samples.add(p, step);
-          if (on_scan && step.status != StepStatus::Skipped)
-            on_scan(k, step, atReferenceTime(*p.cloud, step, last_stamp_us, options.odometry.compensation.enabled));
-          if (step.status != StepStatus::Skipped) last_stamp_us = step.timestamp_us;
+          samples.add(p, *step);
+          if (on_scan && step->status != StepStatus::Skipped) on_scan(k, *step, at_reference);
         }
         if (progress) progress(k - options.start + 1, n);
       });
@@ -187,6 +217,43 @@ ScanningRunResult runScanningOdometry(const ScanSource& sequence, const Scanning
   result.estimate = odometry.trajectory();
   result.ground_truth = rebasedGroundTruth(sequence.groundTruth(), result.estimate);
   return result;
+}
+
+struct ScanningStream::Impl {
+  explicit Impl(const ScanningRunOptions& o)
+      : options((o.validate(), o)),
+        threshold(o.front_end),
+        odometry(o.odometry, makeMatcher(o.matcher)),
+        stepper(odometry, options) {}
+  ScanningRunOptions options;
+  PowerThreshold threshold;
+  ScanningOdometry odometry;
+  ScanStepper stepper;
+};
+
+ScanningStream::ScanningStream(const ScanningRunOptions& options) : impl_(std::make_unique<Impl>(options)) {}
+ScanningStream::~ScanningStream() = default;
+
+ScanningStream::Added ScanningStream::add(PolarScan scan, const std::string& name, bool want_points) {
+  Added a;
+  const std::int64_t stamp = scan.stamp;
+  detail::PreparedScan p = detail::prepareDecodedScan(std::move(scan), name, impl_->threshold, impl_->options.chirp,
+                                                      voxelFor(impl_->options));
+  a.front_end_ms = p.front_end_ms;
+  std::string problem;
+  const OdometryStep* step = impl_->stepper.add(p, stamp, &problem, want_points ? &a.points : nullptr);
+  a.step = step ? *step : impl_->odometry.steps().back();
+  a.bridged = step == nullptr;
+  a.published = a.step.status != StepStatus::Skipped;
+  if (!problem.empty()) a.problem = step ? name + ": " + problem : problem + " (bridged with the motion model)";
+  return a;
+}
+
+const ScanningOdometry& ScanningStream::odometry() const {
+  return impl_->odometry;
+}
+void ScanningStream::setYawRate(std::shared_ptr<const TimeSeries> yaw_rate) {
+  impl_->odometry.setYawRate(std::move(yaw_rate));
 }
 
 }  // namespace radar_ndt

@@ -9,6 +9,7 @@
 // with the match), and a match that fits far worse than recent ones is refused (FitHistory).
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <pcl/point_cloud.h>
@@ -99,9 +100,12 @@ class ScanningOdometry {
   const OdometryStep& bridge(std::int64_t timestamp_us) { return log_.bridge(timestamp_us, motion_model_); }
   /// The gyro's yaw rate (rad/s, counter-clockwise positive, on its own clock: options.gyro's
   /// time_offset), used from the next scan on when options.gyro.enabled.
-  void setYawRate(TimeSeries yaw_rate) { yaw_rate_ = std::move(yaw_rate); }
+  void setYawRate(TimeSeries yaw_rate) { yaw_rate_ = std::make_shared<const TimeSeries>(std::move(yaw_rate)); }
+  /// The same for a series that grows as samples arrive (a live gyro): the step integrates what it
+  /// holds then.
+  void setYawRate(std::shared_ptr<const TimeSeries> yaw_rate) { yaw_rate_ = std::move(yaw_rate); }
   /// Whether the steps use a gyro.
-  bool usesGyro() const { return options_.gyro.enabled && !yaw_rate_.empty(); }
+  bool usesGyro() const { return options_.gyro.enabled && yaw_rate_ && !yaw_rate_->empty(); }
   /// The gyro's bias as estimated so far (rad/s).
   double gyroBias() const { return gyro_.bias(); }
 
@@ -156,7 +160,7 @@ class ScanningOdometry {
   FitHistory fits_;
   ConstantVelocityModel motion_model_;
   StepLog log_;
-  TimeSeries yaw_rate_;  ///< the gyro's, when given
+  std::shared_ptr<const TimeSeries> yaw_rate_;  ///< the gyro's, when given
   GyroYaw gyro_;
   pcl::PointCloud<PointRadar>::Ptr compensated_;  ///< scratch: the source of the last attempt
   pcl::PointCloud<PointRadar> aligned_;           ///< scratch: the matcher's output (unused; kept to reuse its memory)

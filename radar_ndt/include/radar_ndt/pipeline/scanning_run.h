@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -114,5 +115,36 @@ using ScanCallback = std::function<void(std::size_t, const OdometryStep&, const 
 ScanningRunResult runScanningOdometry(const ScanSource& sequence, const ScanningRunOptions& options,
                                       const std::function<void(std::size_t, std::size_t)>& progress = nullptr,
                                       const ScanCallback& on_scan = nullptr);
+
+/// The scanning run one scan at a time, as scans arrive (the ROS node): the threshold, merging and
+/// odometry runScanningOdometry runs, so the same scans give the same steps. A scan without a
+/// noise floor is bridged, as in the run.
+class ScanningStream {
+ public:
+  /// Validates `options` (threads, start and max_scans are unused).
+  explicit ScanningStream(const ScanningRunOptions& options);
+  ~ScanningStream();
+
+  struct Added {
+    OdometryStep step;       ///< the step the scan made (bridged: the motion model's)
+    bool bridged = false;    ///< the scan could not be used (`problem` says why)
+    bool published = false;  ///< the step has a pose in the trajectory (it was not skipped)
+    std::string problem;     ///< "" or why the scan was bridged or no match passed, naming `name`
+    /// With `want_points`: the scan's points at its reference time (as ScanCallback's).
+    pcl::PointCloud<PointRadar> points;
+    double front_end_ms = 0;  ///< threshold and merging
+  };
+  /// Scan `scan` (at its reference time `scan.stamp`, later than the last one's), `name` naming it in
+  /// problems.
+  Added add(PolarScan scan, const std::string& name, bool want_points = false);
+
+  /// The gyro's yaw rate, which may grow as samples arrive (ScanningOdometry::setYawRate).
+  void setYawRate(std::shared_ptr<const TimeSeries> yaw_rate);
+  const ScanningOdometry& odometry() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace radar_ndt

@@ -17,25 +17,21 @@ namespace ros1 {
 
 using namespace detail;
 
-namespace {
-
-/// The encoding and shape of a polar image, before its data is read.
-void checkPolarImage(const std::string& encoding, std::uint32_t height, std::uint32_t width) {
+void checkPolarImage(const std::string& encoding, std::uint32_t height, std::uint32_t width, std::uint32_t step,
+                     std::size_t data_size) {
   if (encoding != "mono8" && encoding != "8UC1")
     throw std::invalid_argument("encoding '" + encoding + "': a polar image is 8 bits a bin (mono8 or 8UC1)");
   if (height == 0 || width == 0) throw std::invalid_argument("an empty image");
+  if (step < width || data_size < static_cast<std::size_t>(step) * height)
+    throw std::invalid_argument("data of " + std::to_string(data_size) + " bytes is shorter than " +
+                                std::to_string(height) + " rows of " + std::to_string(step) + " (width " +
+                                std::to_string(width) + ")");
 }
-
-}  // namespace
 
 PolarScan polarScanFromImage(const std::string& encoding, std::uint32_t height, std::uint32_t width, std::uint32_t step,
                              const std::vector<std::uint8_t>& data, std::int64_t stamp_us, std::int64_t period_us,
                              const PolarImageDescription& polar) {
-  checkPolarImage(encoding, height, width);
-  if (step < width || data.size() < static_cast<std::size_t>(step) * height)
-    throw std::invalid_argument("data of " + std::to_string(data.size()) + " bytes is shorter than " +
-                                std::to_string(height) + " rows of " + std::to_string(step) + " (width " +
-                                std::to_string(width) + ")");
+  checkPolarImage(encoding, height, width, step, data.size());
   PolarScan scan;
   scan.azimuths = static_cast<int>(polar.rows_are_azimuths ? height : width);
   const int bins_in_image = static_cast<int>(polar.rows_are_azimuths ? width : height);
@@ -117,10 +113,7 @@ RosbagScanSequence::RosbagScanSequence(const std::string& bag_path, const Sensor
       const auto image = m.instantiate<sensor_msgs::Image>();
       const ros::Time t = stamps(image->header.stamp, m, s.problems);
       try {
-        checkPolarImage(image->encoding, image->height, image->width);
-        if (image->step < image->width || image->data.size() < static_cast<std::size_t>(image->step) * image->height)
-          throw std::invalid_argument("data of " + std::to_string(image->data.size()) + " bytes, shorter than its " +
-                                      std::to_string(image->height) + " rows");
+        checkPolarImage(image->encoding, image->height, image->width, image->step, image->data.size());
       } catch (const std::invalid_argument& e) {
         ++s.stats.unreadable_messages;
         const std::string text = r.topic + " at " + seconds(t) + ": " + e.what() + ": left out";

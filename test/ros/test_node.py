@@ -1,5 +1,6 @@
-"""The ROS node with a real master: a bag of a nuScenes scene played with `rosbag play`, the
-published odometry recorded with `rosbag record`, compared with the offline run of the same bag.
+"""The ROS node with a real master: a bag of a nuScenes scene (the automotive pipeline) or of a
+scanning radar's sweeps (the scanning one) played with `rosbag play`, the published odometry
+recorded with `rosbag record`, compared with the offline run of the same bag.
 
 Environment: RADAR_NDT_BIN (the build's apps folder), RADAR_NDT_SHARED_DATA (../shared/data).
 Skips when the data or Debian's ROS 1 tools are absent."""
@@ -57,27 +58,33 @@ def write_bag(work):
     return str(work / f"{SCENE}.bag")
 
 
-def offline(bag, work, *extra):
+NUSCENES_TOPICS = ["/RADAR_FRONT", "/RADAR_FRONT_LEFT", "/RADAR_FRONT_RIGHT", "/RADAR_BACK_LEFT", "/RADAR_BACK_RIGHT",
+                   "/tf", "/imu"]
+
+
+def offline(bag, work, *extra, sensors="preset:nuscenes_ars408"):
     out = work / "offline.tum"
-    subprocess.run([f"{BIN}/radar_odometry", "--format", "rosbag", "--bag", bag, "--sensors",
-                    "preset:nuscenes_ars408", "--out", str(out), "-q", *extra], check=True, capture_output=True)
+    subprocess.run([f"{BIN}/radar_odometry", "--format", "rosbag", "--bag", bag, "--sensors", sensors, "--out", str(out),
+                    "-q", *extra], check=True, capture_output=True)
     return np.loadtxt(out)
 
 
-def reference_period(bag):
-    """The offline planner's window: the median interval of the reference radar's sweeps (µs)."""
+def reference_period(bag, topic="/RADAR_FRONT"):
+    """The offline run's interval: the median interval of the reference radar's sweeps (s)."""
     import rosbag
     with rosbag.Bag(bag) as b:
-        t = [m.header.stamp.to_nsec() // 1000 for _, m, _ in b.read_messages(topics=["/RADAR_FRONT"])]
+        t = [m.header.stamp.to_nsec() // 1000 for _, m, _ in b.read_messages(topics=[topic])]
     return float(np.median(np.diff(sorted(t)))) * 1e-6
 
 
-def run_node(env, work, bag, rate, name, *params):
+def run_node(env, work, bag, rate, name, *params, sensors="preset:nuscenes_ars408", topics=NUSCENES_TOPICS,
+             period=None):
     recorded = work / f"{name}.bag"
     # Private parameters outlive a node on the master: a previous run's would be read again.
     subprocess.run(["rosparam", "delete", "/radar_ndt"], env=env, capture_output=True)
-    node = subprocess.Popen([f"{BIN}/radar_ndt_node", "_sensors:=preset:nuscenes_ars408",
-                             f"_cycle_period:={reference_period(bag)}", "_flush_after:=1.0", *params],
+    period = reference_period(bag) if period is None else period
+    node = subprocess.Popen([f"{BIN}/radar_ndt_node", f"_sensors:={sensors}", f"_cycle_period:={period}",
+                             "_flush_after:=1.0", *params],
                             env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     record = subprocess.Popen(["rosbag", "record", "-O", str(recorded), "/radar_ndt/odometry", "/diagnostics"],
                               env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -85,8 +92,7 @@ def run_node(env, work, bag, rate, name, *params):
     # -d: a pause after advertising, so that the node's subscriptions are connected before the first
     # messages go out (a message published before its subscriber connects is lost: under load the
     # IMU's first samples were, and the gyro's integral to the second cycle with them).
-    subprocess.run(["rosbag", "play", "-q", "-d", "2", "-r", str(rate), bag, "--topics", "/RADAR_FRONT", "/RADAR_FRONT_LEFT",
-                    "/RADAR_FRONT_RIGHT", "/RADAR_BACK_LEFT", "/RADAR_BACK_RIGHT", "/tf", "/imu"],
+    subprocess.run(["rosbag", "play", "-q", "-d", "2", "-r", str(rate), bag, "--topics", *topics],
                    env=env, check=True, capture_output=True)
     # The last cycles flushed (after ~flush_after of quiet) and recorded; a slow build (ASan) is still
     # working off its queue of cycles when a bag played at 10x ends.
@@ -142,3 +148,28 @@ def test_played_bag_gives_the_offline_poses(ros_env):
         assert "latency" in out, out
         print(name, out.strip().splitlines()[-1])
         assert any(s.name.startswith("radar_ndt") for d in diag for s in d.status), "diagnostics published"
+
+
+def test_scanning_radar_node_gives_the_offline_poses(ros_env, tmp_path):
+    """A scanning radar's sweeps (Boreas' layout, simulated with a navigation-grade gyro, written
+    as CFEAR's bag layout): the node runs the scanning pipeline, without and with the gyro, and its
+    poses are the offline run's."""
+    env, work = ros_env
+    seq, bag = tmp_path / "boreas", str(tmp_path / "boreas.bag")
+    subprocess.run([f"{BIN}/radar_sim", "--layout", "boreas", "--imu", "navigation", "--start", "80", "--frames", "40",
+                    "--out", str(seq), "-q"], check=True, capture_output=True)
+    subprocess.run([f"{BIN}/radar_scans_to_bag", "--format", "boreas", "--sequence", str(seq), "--out", bag],
+                   check=True, capture_output=True)
+    sensors = "preset:navtech_boreas"
+    plain = offline(bag, work, sensors=sensors)
+    gyro = offline(bag, work, "--imu", sensors=sensors)
+    assert len(plain) == 40 and np.abs(gyro[:, 1:3] - plain[:, 1:3]).max() > 1e-3  # the gyro is seen used
+    period = reference_period(bag, "/Navtech/Polar")
+    for expected, rate, name, params in ((plain, 1.0, "scanning", []),
+                                         (gyro, 10.0, "scanning-gyro-fast", ["_odometry/gyro/enabled:=true"])):
+        poses, diag, out = run_node(env, work, bag, rate, name, *params, sensors=sensors,
+                                    topics=["/Navtech/Polar", "/imu"], period=period)
+        assert_same_poses(poses, expected, name, out)
+        print(name, out.strip().splitlines()[-1])
+        radar = [s for d in diag for s in d.status if s.name == "radar_ndt: /Navtech/Polar"]
+        assert radar and int(dict((v.key, v.value) for v in radar[-1].values)["messages"]) == 40

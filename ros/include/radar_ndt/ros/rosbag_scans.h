@@ -17,6 +17,11 @@
 namespace radar_ndt {
 namespace ros1 {
 
+/// Throws std::invalid_argument unless the image (sensor_msgs/Image's fields, its data's size) is
+/// one polarScanFromImage reads: 8 bits a bin (mono8, 8UC1), not empty, its data as long as its rows.
+void checkPolarImage(const std::string& encoding, std::uint32_t height, std::uint32_t width, std::uint32_t step,
+                     std::size_t data_size);
+
 /// The sweep in `image` (sensor_msgs/Image's fields) as a polar scan stamped `stamp_us`, its
 /// azimuths spread over `period_us`; std::invalid_argument for an encoding other than 8 bits a
 /// bin (mono8, 8UC1), data shorter than its rows, or an empty image.

@@ -1,0 +1,301 @@
+// The automotive radar odometry as a ROS node (docs/ros.md): subscribes to the radar topics of a
+// sensor description, assembles cycles as they arrive (ros1::LiveCycles, the offline planner's
+// rule), runs the front-end and the odometry the offline run uses. With ~odometry/car/gyro (the
+// offline --imu) it fuses the description's IMU topic's yaw rate, each cycle held until the gyro
+// has reached past it (ros1::LiveYawRate).
+#include <algorithm>
+#include <deque>
+#include <map>
+#include <optional>
+
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include "node/node_common.h"
+#include "radar_ndt/evaluation/point_map.h"
+#include "radar_ndt/pipeline/automotive_run.h"
+#include "radar_ndt/ros/live_cycles.h"
+#include "radar_ndt/ros/live_yaw_rate.h"
+#include "radar_ndt/ros/point_cloud2.h"
+
+namespace radar_ndt {
+namespace node {
+namespace {
+
+class AutomotiveNode : public RadarNode {
+ public:
+  AutomotiveNode(ros::NodeHandle& nh, ros::NodeHandle& pn, const SensorDescription& d) : d_(d), pub_(nh, pn) {
+    options_ = optionsFromParameters(pn, AutomotiveRunOptions{});
+    options_ = withMethod(options_, options_.matcher.method);
+    options_.validate();
+    double period = 0;
+    pn.param("cycle_period", period, 0.0);
+    period_us_ = static_cast<std::int64_t>(period * 1e6 + 0.5);
+    pn.param("flush_after", flush_after_, 0.5);
+    pn.param<std::string>("odom_frame", odom_frame_, "odom");
+    front_end_ = std::make_unique<AutomotiveFrontEnd>(options_.front_end);
+    if (options_.odometry.car.wheels)
+      throw std::invalid_argument(
+          "~odometry/car/wheels: the node reads no wheel speeds (docs/ros.md); "
+          "~odometry/car/gyro fuses the IMU's yaw rate");
+    use_gyro_ = options_.odometry.car.gyro;
+    if (use_gyro_ && d_.imu_topic.empty())
+      throw std::invalid_argument("~odometry/car/gyro: " + d_.source + " names no imu topic");
+    offset_us_ = std::llround(options_.odometry.car.time_offset * 1e6);
+    yaw_ = ros1::LiveYawRate(d_.imu_topic);
+    imu_.topic = d_.imu_topic;
+    imu_.hardware_id = "imu";
+    imu_.malformed_name = "not a number";
+    resetOdometry();
+    for (std::size_t i = 0; i < d_.radars.size(); ++i) {
+      const RadarDescription& r = d_.radars[i];
+      channels_.emplace_back();
+      channels_.back().state.topic = r.topic;
+      channels_.back().state.hardware_id = r.name;
+      if (r.mounting) channels_.back().mounting = r.mounting->transform();
+      subs_.push_back(nh.subscribe<sensor_msgs::PointCloud2>(
+          r.topic, 200, [this, i](const sensor_msgs::PointCloud2::ConstPtr& m) { onCloud(i, *m); }));
+    }
+    if (use_gyro_)
+      subs_.push_back(nh.subscribe<sensor_msgs::Imu>(d_.imu_topic, 2000, [this](const auto& m) { onImu(*m); }));
+    subs_.push_back(nh.subscribe<tf2_msgs::TFMessage>("/tf", 200, [this](const auto& m) { onTf(*m); }));
+    subs_.push_back(nh.subscribe<tf2_msgs::TFMessage>("/tf_static", 20, [this](const auto& m) { onTf(*m); }));
+    diag_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnose(); });
+    flush_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) { flushIfQuiet(); });
+  }
+
+  void report() const override { timing_.report(cycles_); }
+
+ private:
+  struct Channel {
+    TopicState state;
+    std::optional<Eigen::Isometry3d> mounting;
+    std::string frame;  ///< the clouds' frame, for /tf when the description names none
+  };
+
+  void resetOdometry() {
+    odometry_ = std::make_unique<AutomotiveOdometry>(options_.odometry, makeMatcher(options_.matcher));
+    if (use_gyro_) odometry_->setVehicleSignals(yaw_.signals());
+    have_valid_ = false;
+  }
+
+  /// The stream went back in time (a bag played again) on `from`, at `t`: everything starts again.
+  void restart(const std::string& why, TopicState& from, std::int64_t t) {
+    ROS_WARN_STREAM("radar_ndt_node: " << why << ": the odometry starts again");
+    live_.reset();
+    waiting_.clear();
+    pending_.clear();
+    for (auto& c : channels_) c.state.last_us = -1;
+    imu_.last_us = -1;
+    stream_us_ = -1;
+    yaw_.reset();
+    resetOdometry();
+    map_ = PointMap(0.2);
+    from.last_us = t;
+  }
+
+  void onImu(const sensor_msgs::Imu& msg) {
+    const std::int64_t t = stampOf(d_.stamps, msg.header.stamp);
+    if (imu_.arrived(t)) restart(imu_.last_problem, imu_, t);
+    stream_us_ = std::max(stream_us_, t - offset_us_);
+    const auto added = yaw_.add(t, msg.angular_velocity.z);
+    if (added == ros1::LiveYawRate::Added::NotFinite || added == ros1::LiveYawRate::Added::Late) {
+      const bool nan = added == ros1::LiveYawRate::Added::NotFinite;
+      ++(nan ? imu_.malformed : imu_.late);
+      imu_.problem(d_.imu_topic + (nan ? ": a yaw rate that is not a number: left out"
+                                       : ": a message older than the cycles already matched: left out"));
+    }
+    processReady();
+  }
+
+  std::optional<std::uint16_t> reference() {
+    if (live_) return reference_;
+    std::map<std::uint16_t, SensorMounting> m;
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < d_.radars.size(); ++i) {
+      names.push_back(d_.radars[i].name);
+      if (!channels_[i].mounting) return std::nullopt;  // decided once every radar is placed
+      m[static_cast<std::uint16_t>(i)] = toMounting(*channels_[i].mounting);
+    }
+    reference_ = chooseReferenceChannel(m, names, d_.reference, "the node's radars");
+    live_ = std::make_unique<ros1::LiveCycles>(reference_, period_us_);
+    for (auto& s : waiting_) live_->add(std::move(s));
+    waiting_.clear();
+    return reference_;
+  }
+
+  void onTf(const tf2_msgs::TFMessage& m) {
+    for (const auto& t : m.transforms)
+      for (std::size_t i = 0; i < d_.radars.size(); ++i) {
+        Channel& c = channels_[i];
+        const std::string frame = d_.radars[i].frame.empty() ? c.frame : d_.radars[i].frame;
+        if (c.mounting || frame.empty() || t.header.frame_id != d_.base_frame || t.child_frame_id != frame) continue;
+        Eigen::Quaterniond q(t.transform.rotation.w, t.transform.rotation.x, t.transform.rotation.y,
+                             t.transform.rotation.z);
+        if (!(std::abs(q.norm() - 1.0) < 1e-2)) continue;
+        q.normalize();
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.linear() = q.toRotationMatrix();
+        T.translation() << t.transform.translation.x, t.transform.translation.y, t.transform.translation.z;
+        c.mounting = T;
+      }
+    drain();
+  }
+
+  /// The cloud's points as the description names its fields; nullopt (counted and said) when it
+  /// is malformed.
+  std::optional<RadarSweepData> sweepOf(std::size_t i, const sensor_msgs::PointCloud2& msg, std::int64_t t) {
+    TopicState& c = channels_[i].state;
+    const RadarDescription& r = d_.radars[i];
+    RadarSweepData sweep;
+    sweep.timestamp_us = t;
+    sweep.sensor_id = static_cast<std::uint16_t>(i);
+    try {
+      const std::vector<std::string> names = r.fields.columns();
+      const ros1::CloudColumns cols = ros1::readCloudColumns(msg, names);
+      for (const std::string& need : r.fields.requiredColumns())
+        for (std::size_t k = 0; k < names.size(); ++k)
+          if (names[k] == need && !cols.present[k])
+            throw std::invalid_argument("no field '" + need + "' (fields: " + ros1::fieldNames(msg) + ")");
+      RadarPointStats stats;
+      sweep.points = convertRadarPoints(cols.table, cols.points, cols.present, r.fields, sweep.sensor_id, &stats);
+      if (stats.dropped_non_finite > 0)
+        c.problem(r.topic + ": " + std::to_string(stats.dropped_non_finite) + " points with NaN or Inf dropped");
+      if (cols.points == 0) c.problem(r.topic + ": an empty cloud");
+    } catch (const std::invalid_argument& e) {
+      ++c.malformed;
+      c.problem(r.topic + ": a malformed cloud left out: " + e.what());
+      return std::nullopt;
+    }
+    return sweep;
+  }
+
+  void onCloud(std::size_t i, const sensor_msgs::PointCloud2& msg) {
+    const ros::WallTime arrival = ros::WallTime::now();
+    Channel& c = channels_[i];
+    if (c.frame.empty()) c.frame = msg.header.frame_id;
+    const std::int64_t t = stampOf(d_.stamps, msg.header.stamp);
+    if (c.state.arrived(t)) restart(c.state.last_problem, c.state, t);  // a bag played again
+    stream_us_ = std::max(stream_us_, t);
+    std::optional<RadarSweepData> sweep = sweepOf(i, msg, t);
+    if (!sweep) return;
+    arrival_.emplace(t, arrival);
+    if (!reference()) {
+      waiting_.push_back(std::move(*sweep));
+      return;
+    }
+    if (live_->add(std::move(*sweep)) == ros1::LiveCycles::Added::Late) {
+      ++c.state.late;
+      c.state.problem(d_.radars[i].topic + ": a sweep older than the last cycle arrived late: left out");
+    }
+    drain();
+  }
+
+  void drain() {
+    if (!reference()) return;
+    while (auto cycle = live_->next()) pending_.push_back(std::move(*cycle));
+    processReady();
+  }
+
+  /// The complete cycles, oldest first, each once the gyro has reached past it (when it is fused).
+  void processReady() {
+    while (!pending_.empty() &&
+           (!use_gyro_ || yaw_.reaches(pending_.front().timestamp_us + offset_us_, stream_us_ + offset_us_))) {
+      process(pending_.front());
+      pending_.pop_front();
+    }
+  }
+
+  void flushIfQuiet() {
+    if (!live_) return;
+    ros::WallTime last;
+    for (const auto& c : channels_) last = std::max(last, c.state.last_arrival);
+    if (last.isZero() || (ros::WallTime::now() - last).toSec() < flush_after_) return;
+    for (RadarCycle& cycle : live_->flush()) pending_.push_back(std::move(cycle));
+    for (RadarCycle& cycle : pending_) process(cycle);
+    pending_.clear();
+  }
+
+  void process(RadarCycle& cycle) {
+    const double cpu0 = cpuSeconds();
+    for (RadarSweepData& s : cycle.sweeps) s.sensor_to_vehicle = *channels_[s.sensor_id].mounting;
+    ProcessedCycle processed = front_end_->process(cycle);
+    if (!processed.ego.valid && have_valid_) processed = front_end_->process(cycle, &last_valid_);
+    if (processed.ego.valid) {
+      last_valid_ = processed.ego;
+      have_valid_ = true;
+    }
+    const OdometryStep& step = odometry_->add(processed);
+    if (use_gyro_) yaw_.used(cycle.timestamp_us + offset_us_);
+    map_.add(*processed.cloud, step.pose);
+    pub_.pose(step, cycle.timestamp_us, odom_frame_, d_.base_frame);
+    if (pub_.wantsLocalMap()) pub_.localMap(*odometry_->localMap().cloud(), cycle.timestamp_us, d_.base_frame);
+    if (pub_.wantsMap() && cycles_ % 10 == 0) pub_.map(map_.cloud(), cycle.timestamp_us, odom_frame_);
+    ++cycles_;
+    timing_.cpu_s.push_back(cpuSeconds() - cpu0);
+    const auto a = arrival_.find(cycle.timestamp_us);
+    if (a != arrival_.end()) {
+      timing_.latency_s.push_back((ros::WallTime::now() - a->second).toSec());
+      arrival_.erase(arrival_.begin(), std::next(a));
+    }
+  }
+
+  void diagnose() {
+    ros::WallTime newest;
+    for (const auto& c : channels_) newest = std::max(newest, c.state.last_arrival);
+    std::vector<diagnostic_msgs::DiagnosticStatus> status;
+    for (const Channel& c : channels_)
+      status.push_back(c.state.status(newest, "silent: no cloud for over a second while the other radars send",
+                                      {{"mounting", c.mounting ? "known" : "waiting for /tf"}}));
+    if (use_gyro_)
+      status.push_back(imu_.status(
+          newest, "silent: no IMU message for over a second while the radars send; the last yaw rate is held"));
+    diagnostic_msgs::DiagnosticStatus s;
+    s.name = "radar_ndt: odometry";
+    s.level = diagnostic_msgs::DiagnosticStatus::OK;
+    s.message = std::to_string(cycles_) + " cycles";
+    diagnostic_msgs::KeyValue lat;
+    lat.key = "latency_median_ms";
+    lat.value = std::to_string(timing_.medianLatencyMs());
+    s.values.push_back(lat);
+    status.push_back(s);
+    pub_.diagnostics(std::move(status));
+  }
+
+  SensorDescription d_;
+  Publishers pub_;
+  AutomotiveRunOptions options_;
+  std::int64_t period_us_ = 0;
+  double flush_after_ = 0.5;
+  std::string odom_frame_;
+  std::unique_ptr<AutomotiveFrontEnd> front_end_;
+  std::unique_ptr<AutomotiveOdometry> odometry_;
+  EgoVelocity last_valid_;
+  bool have_valid_ = false;
+  std::vector<Channel> channels_;
+  TopicState imu_;  ///< the IMU topic's counters (its mounting unused: only the yaw rate is fused)
+  bool use_gyro_ = false;
+  std::int64_t offset_us_ = 0;  ///< the gyro's clock minus the radars' (odometry.car.time_offset)
+  ros1::LiveYawRate yaw_;
+  std::int64_t stream_us_ = -1;     ///< the newest message time seen, on the radars' clock
+  std::deque<RadarCycle> pending_;  ///< complete cycles waiting for the gyro
+  std::uint16_t reference_ = 0;
+  std::unique_ptr<ros1::LiveCycles> live_;
+  std::vector<RadarSweepData> waiting_;
+  std::map<std::int64_t, ros::WallTime> arrival_;
+  CycleTiming timing_;
+  std::size_t cycles_ = 0;
+  std::vector<ros::Subscriber> subs_;
+  PointMap map_{0.2};  ///< every cycle's stationary detections in the odom frame, as --map-out
+  ros::WallTimer diag_timer_, flush_timer_;
+};
+
+}  // namespace
+
+std::unique_ptr<RadarNode> automotiveNode(ros::NodeHandle& nh, ros::NodeHandle& pn, const SensorDescription& d) {
+  return std::make_unique<AutomotiveNode>(nh, pn, d);
+}
+
+}  // namespace node
+}  // namespace radar_ndt

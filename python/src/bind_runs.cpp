@@ -12,6 +12,7 @@
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #ifdef RADAR_NDT_WITH_ROS
+#include "radar_ndt/ros/rosbag_scans.h"
 #include "radar_ndt/ros/rosbag_sequence.h"
 #endif
 #include "radar_ndt/pipeline/scanning_run.h"
@@ -97,6 +98,8 @@ void bindRunResults(py::module_& m) {
   py::class_<ScanningRunResult> scanning(m, "ScanningRun", "What run_scanning returns.");
   bindRunResult(scanning);
   scanning.def_readonly("sequence", &ScanningRunResult::sequence)
+      .def_readonly("format", &ScanningRunResult::format,
+                    "the layout the scans came from: oxford, radiate, boreas, rosbag")
       .def_readonly("scans_per_second", &ScanningRunResult::scans_per_second)
       .def_readonly("wall_s", &ScanningRunResult::wall_s)
       .def_readonly("threads", &ScanningRunResult::threads);
@@ -164,35 +167,50 @@ void bindRunFunctions(py::module_& m) {
 void bindRosbagRun(py::module_& m) {
   m.def(
       "run_rosbag",
-      [](const std::filesystem::path& bag_arg, const std::string& sensors, const py::kwargs& kw) {
+      [](const std::filesystem::path& bag_arg, const std::string& sensors, const py::kwargs& kw) -> py::object {
 #ifdef RADAR_NDT_WITH_ROS
         const std::string bag_path = bag_arg.string();
+        const SensorDescription d = readSensorDescription(sensors);
+        if (!d.radars.empty() && d.radars[0].kind == RadarKind::Scanning) {  // polar images: the scanning run
+          const ScanningRunOptions o = scanningKeywords(ScanningRunOptions{}, kw);
+          ScanningRunResult r;
+          {
+            py::gil_scoped_release release;
+            const ros1::RosbagScanSequence bag(bag_path, d);
+            r = runScanningOdometry(bag, o);
+          }
+          return py::cast(std::move(r));
+        }
         const std::string method = kw.contains("method") ? keywordAs<std::string>(kw["method"], "method") : "pw-ndt";
         AutomotiveRunOptions o =
             withKeywords(AutomotiveRunOptions{}, without(kw, {"method"}), "AutomotiveRunOptions", "method");
         o = withMethod(o, method);
         o.validate();
-        py::gil_scoped_release release;
-        const ros1::RosbagRadarSequence bag(bag_path, readSensorDescription(sensors));
-        const auto car = bag.vehicleSignals();
-        if (o.odometry.car.wheels && (!car || car->speed.empty()))
-          throw std::invalid_argument("odometry.car.wheels: " + sensors + " names no speed topic");
-        if (o.odometry.car.gyro && (!car || car->yaw_rate.empty()))
-          throw std::invalid_argument("odometry.car.gyro: " + sensors + " names no imu topic");
-        AutomotiveInputs inputs{bag, o.odometry.car.any() ? bag.vehicleSignals() : nullptr, bag.problems()};
-        return runAutomotiveOdometry(inputs, o, makeMatcher(o.matcher));
+        AutomotiveRunResult r;
+        {
+          py::gil_scoped_release release;
+          const ros1::RosbagRadarSequence bag(bag_path, d);
+          const auto car = bag.vehicleSignals();
+          if (o.odometry.car.wheels && (!car || car->speed.empty()))
+            throw std::invalid_argument("odometry.car.wheels: " + sensors + " names no speed topic");
+          if (o.odometry.car.gyro && (!car || car->yaw_rate.empty()))
+            throw std::invalid_argument("odometry.car.gyro: " + sensors + " names no imu topic");
+          AutomotiveInputs inputs{bag, o.odometry.car.any() ? bag.vehicleSignals() : nullptr, bag.problems()};
+          r = runAutomotiveOdometry(inputs, o, makeMatcher(o.matcher));
+        }
+        return py::cast(std::move(r));
 #else
         (void)bag_arg;
         (void)sensors;
         (void)kw;
         throw std::runtime_error("run_rosbag: this build has no ROS support (Debian's ROS 1 was not found)");
-        return AutomotiveRunResult{};
 #endif
       },
       py::arg("bag"), py::arg("sensors"),
-      "Runs the automotive odometry over a ROS 1 bag as radar_odometry --format rosbag --bag BAG --sensors "
-      "SENSORS does (a sensor description file, or 'preset:NAME'); keywords as run_automotive's. Returns an "
-      "AutomotiveRun. The GIL is released while it runs.");
+      "Runs the odometry over a ROS 1 bag as radar_odometry --format rosbag --bag BAG --sensors SENSORS does "
+      "(a sensor description file, or 'preset:NAME'). Point-cloud radars: the automotive odometry, keywords "
+      "as run_automotive's, an AutomotiveRun; a scanning radar's polar images: the scanning odometry, "
+      "keywords as run_scanning's, a ScanningRun. The GIL is released while it runs.");
 }
 
 void bindRuns(py::module_& m) {

@@ -199,3 +199,24 @@ def test_run_rosbag_gives_the_scenes_trajectory(work):
     assert run.scene == SCENE and np.array_equal(run.poses, scene.poses)
     with pytest.raises(Exception, match="no_such.yaml"):
         radar_ndt.run_rosbag(str(work / f"{SCENE}.bag"), str(work / "no_such.yaml"))
+
+
+def test_run_rosbag_runs_a_scanning_radars_bag_as_the_app(work):
+    """A scanning radar's bag (the real Oxford scans in CFEAR's layout) runs the scanning odometry,
+    with run_scanning's keywords, and writes what radar_odometry --format rosbag writes."""
+    need(OXFORD)
+    bag = work / "oxford.bag"
+    try:
+        app("radar_scans_to_bag", "--format", "oxford", "--sequence", OXFORD, "--out", bag)
+    except FileNotFoundError:
+        pytest.skip("this build has no ROS support (no radar_scans_to_bag)")
+    run = radar_ndt.run_rosbag(str(bag), "preset:navtech_oxford", threads=1)
+    assert isinstance(run, radar_ndt.ScanningRun) and run.format == "rosbag"
+    ours, theirs = work / "bag.py.tum", work / "bag.app.tum"
+    radar_ndt.write_trajectory(str(ours), run.estimate, "tum")
+    app("radar_odometry", "--format", "rosbag", "--bag", bag, "--sensors", "preset:navtech_oxford", "--out", theirs,
+        "-q")
+    assert ours.read_bytes() == theirs.read_bytes()
+    with pytest.raises(Exception, match="rapp-ndt"):  # a method that needs Doppler, refused as run_scanning does
+        radar_ndt.run_rosbag(str(bag), "preset:navtech_oxford", method="rapp-ndt")
+

@@ -4,7 +4,8 @@
 # has. What RadarNDT uses is plain headers and shared libraries, found here directly.
 #
 #   ROS1::rosbag   rosbag_storage (read and write bags) and its serialisation and time libraries
-#   ROS1::roscpp   roscpp (a node: publishers, subscribers, the master) with the above
+#   ROS1::roscpp   roscpp (a node: publishers, subscribers, the master) with the above, and
+#                  topic_tools (a subscription of either of two message types: ShapeShifter)
 #   ROS1_FOUND     both found, and the message headers (sensor_msgs, nav_msgs, geometry_msgs,
 #                  tf2_msgs, std_msgs)
 include(FindPackageHandleStandardArgs)
@@ -20,7 +21,7 @@ find_path(ROS1_AMENT_INDEX_INCLUDE_DIR ament_index_cpp/get_package_prefix.hpp PA
 find_path(ROS1_RCUTILS_INCLUDE_DIR rcutils/logging_macros.h PATH_SUFFIXES rcutils)
 find_path(ROS1_RCPPUTILS_INCLUDE_DIR rcpputils/shared_library.hpp PATH_SUFFIXES rcpputils)
 foreach(lib rosbag_storage roscpp_serialization rostime cpp_common console_bridge roscpp rosconsole
-            xmlrpcpp roslz4)
+            xmlrpcpp roslz4 topic_tools)
   find_library(ROS1_${lib}_LIBRARY ${lib})
 endforeach()
 find_package_handle_standard_args(ROS1 REQUIRED_VARS
@@ -29,7 +30,7 @@ find_package_handle_standard_args(ROS1 REQUIRED_VARS
   ROS1_AMENT_INDEX_INCLUDE_DIR ROS1_RCUTILS_INCLUDE_DIR ROS1_RCPPUTILS_INCLUDE_DIR
   ROS1_rosbag_storage_LIBRARY ROS1_roscpp_serialization_LIBRARY ROS1_rostime_LIBRARY
   ROS1_cpp_common_LIBRARY ROS1_console_bridge_LIBRARY ROS1_roscpp_LIBRARY ROS1_rosconsole_LIBRARY
-  ROS1_xmlrpcpp_LIBRARY)
+  ROS1_xmlrpcpp_LIBRARY ROS1_topic_tools_LIBRARY)
 if(ROS1_FOUND AND NOT TARGET ROS1::rosbag)
   find_package(Boost REQUIRED COMPONENTS filesystem)
   add_library(ROS1::rosbag INTERFACE IMPORTED)
@@ -39,6 +40,6 @@ if(ROS1_FOUND AND NOT TARGET ROS1::rosbag)
   # The message headers use the system include path, where they already are.
   add_library(ROS1::roscpp INTERFACE IMPORTED)
   set_target_properties(ROS1::roscpp PROPERTIES
-    INTERFACE_LINK_LIBRARIES "ROS1::rosbag;${ROS1_roscpp_LIBRARY};${ROS1_rosconsole_LIBRARY};${ROS1_xmlrpcpp_LIBRARY}")
+    INTERFACE_LINK_LIBRARIES "ROS1::rosbag;${ROS1_roscpp_LIBRARY};${ROS1_rosconsole_LIBRARY};${ROS1_xmlrpcpp_LIBRARY};${ROS1_topic_tools_LIBRARY}")
 endif()
 mark_as_advanced(ROS1_ROSBAG_INCLUDE_DIR ROS1_ROSCPP_INCLUDE_DIR ROS1_MSGS_INCLUDE_DIR)

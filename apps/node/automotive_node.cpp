@@ -1,22 +1,26 @@
 // The automotive radar odometry as a ROS node (docs/ros.md): subscribes to the radar topics of a
 // sensor description, assembles cycles as they arrive (ros1::LiveCycles, the offline planner's
 // rule), runs the front-end and the odometry the offline run uses. With ~odometry/car/gyro (the
-// offline --imu) it fuses the description's IMU topic's yaw rate, each cycle held until the gyro
-// has reached past it (ros1::LiveYawRate).
+// offline --imu) it fuses the description's IMU topic's yaw rate, with ~odometry/car/wheels (the
+// offline --wheels) its speed topic's speed (geometry_msgs/TwistStamped or nav_msgs/Odometry), each
+// cycle held until the signals have reached past it (ros1::LiveVehicleSignals).
 #include <algorithm>
 #include <deque>
 #include <map>
 #include <optional>
 
+#include <geometry_msgs/TwistStamped.h>
+#include <nav_msgs/Odometry.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_msgs/TFMessage.h>
+#include <topic_tools/shape_shifter.h>
 
 #include "node/node_common.h"
 #include "radar_ndt/evaluation/point_map.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/ros/live_cycles.h"
-#include "radar_ndt/ros/live_yaw_rate.h"
+#include "radar_ndt/ros/live_vehicle_signals.h"
 #include "radar_ndt/ros/point_cloud2.h"
 
 namespace radar_ndt {
@@ -35,18 +39,23 @@ class AutomotiveNode : public RadarNode {
     pn.param("flush_after", flush_after_, 0.5);
     pn.param<std::string>("odom_frame", odom_frame_, "odom");
     front_end_ = std::make_unique<AutomotiveFrontEnd>(options_.front_end);
-    if (options_.odometry.car.wheels)
-      throw std::invalid_argument(
-          "~odometry/car/wheels: the node reads no wheel speeds (docs/ros.md); "
-          "~odometry/car/gyro fuses the IMU's yaw rate");
     use_gyro_ = options_.odometry.car.gyro;
+    use_speed_ = options_.odometry.car.wheels;
     if (use_gyro_ && d_.imu_topic.empty())
       throw std::invalid_argument("~odometry/car/gyro: " + d_.source + " names no imu topic");
+    if (use_speed_ && d_.speed_topic.empty())
+      throw std::invalid_argument("~odometry/car/wheels: " + d_.source + " names no speed topic");
     offset_us_ = std::llround(options_.odometry.car.time_offset * 1e6);
-    yaw_ = ros1::LiveYawRate(d_.imu_topic);
+    std::vector<ros1::LiveVehicleSignals::Signal> in_use;
+    if (use_gyro_) in_use.push_back(ros1::LiveVehicleSignals::Signal::YawRate);
+    if (use_speed_) in_use.push_back(ros1::LiveVehicleSignals::Signal::Speed);
+    car_ = ros1::LiveVehicleSignals(use_gyro_ ? d_.imu_topic : d_.speed_topic, in_use);
     imu_.topic = d_.imu_topic;
     imu_.hardware_id = "imu";
     imu_.malformed_name = "not a number";
+    speed_.topic = d_.speed_topic;
+    speed_.hardware_id = "speed";
+    speed_.malformed_name = "not a speed";
     resetOdometry();
     for (std::size_t i = 0; i < d_.radars.size(); ++i) {
       const RadarDescription& r = d_.radars[i];
@@ -59,6 +68,9 @@ class AutomotiveNode : public RadarNode {
     }
     if (use_gyro_)
       subs_.push_back(nh.subscribe<sensor_msgs::Imu>(d_.imu_topic, 2000, [this](const auto& m) { onImu(*m); }));
+    if (use_speed_)  // either of two message types, told by each message's type
+      subs_.push_back(
+          nh.subscribe<topic_tools::ShapeShifter>(d_.speed_topic, 2000, [this](const auto& m) { onSpeed(*m); }));
     subs_.push_back(nh.subscribe<tf2_msgs::TFMessage>("/tf", 200, [this](const auto& m) { onTf(*m); }));
     subs_.push_back(nh.subscribe<tf2_msgs::TFMessage>("/tf_static", 20, [this](const auto& m) { onTf(*m); }));
     diag_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnose(); });
@@ -76,7 +88,7 @@ class AutomotiveNode : public RadarNode {
 
   void resetOdometry() {
     odometry_ = std::make_unique<AutomotiveOdometry>(options_.odometry, makeMatcher(options_.matcher));
-    if (use_gyro_) odometry_->setVehicleSignals(yaw_.signals());
+    if (usesCar()) odometry_->setVehicleSignals(car_.signals());
     have_valid_ = false;
   }
 
@@ -87,26 +99,51 @@ class AutomotiveNode : public RadarNode {
     waiting_.clear();
     pending_.clear();
     for (auto& c : channels_) c.state.last_us = -1;
-    imu_.last_us = -1;
+    imu_.last_us = speed_.last_us = -1;
     stream_us_ = -1;
-    yaw_.reset();
+    car_.reset();
     resetOdometry();
     map_ = PointMap(0.2);
     from.last_us = t;
   }
 
-  void onImu(const sensor_msgs::Imu& msg) {
-    const std::int64_t t = stampOf(d_.stamps, msg.header.stamp);
-    if (imu_.arrived(t)) restart(imu_.last_problem, imu_, t);
+  bool usesCar() const { return use_gyro_ || use_speed_; }
+
+  /// A sample of one of the car's signals on `state`'s topic, taken as the offline reader takes it.
+  void onSignal(ros1::LiveVehicleSignals::Signal signal, TopicState& state, const ros::Time& header, double value,
+                const char* what) {
+    const std::int64_t t = stampOf(d_.stamps, header);
+    if (state.arrived(t)) restart(state.last_problem, state, t);
     stream_us_ = std::max(stream_us_, t - offset_us_);
-    const auto added = yaw_.add(t, msg.angular_velocity.z);
-    if (added == ros1::LiveYawRate::Added::NotFinite || added == ros1::LiveYawRate::Added::Late) {
-      const bool nan = added == ros1::LiveYawRate::Added::NotFinite;
-      ++(nan ? imu_.malformed : imu_.late);
-      imu_.problem(d_.imu_topic + (nan ? ": a yaw rate that is not a number: left out"
-                                       : ": a message older than the cycles already matched: left out"));
+    const auto added = car_.add(signal, t, value);
+    if (added == ros1::LiveVehicleSignals::Added::NotFinite || added == ros1::LiveVehicleSignals::Added::Late) {
+      const bool nan = added == ros1::LiveVehicleSignals::Added::NotFinite;
+      ++(nan ? state.malformed : state.late);
+      state.problem(state.topic + (nan ? std::string(": ") + what + " that is not a number: left out"
+                                       : std::string(": a message older than the cycles already matched: left out")));
     }
     processReady();
+  }
+
+  void onImu(const sensor_msgs::Imu& msg) {
+    onSignal(ros1::LiveVehicleSignals::Signal::YawRate, imu_, msg.header.stamp, msg.angular_velocity.z, "a yaw rate");
+  }
+
+  /// The speed: twist.linear.x of a geometry_msgs/TwistStamped or nav_msgs/Odometry (as offline).
+  void onSpeed(const topic_tools::ShapeShifter& msg) {
+    const std::string& type = msg.getDataType();
+    if (type == "geometry_msgs/TwistStamped") {
+      const auto m = msg.instantiate<geometry_msgs::TwistStamped>();
+      onSignal(ros1::LiveVehicleSignals::Signal::Speed, speed_, m->header.stamp, m->twist.linear.x, "a speed");
+    } else if (type == "nav_msgs/Odometry") {
+      const auto m = msg.instantiate<nav_msgs::Odometry>();
+      onSignal(ros1::LiveVehicleSignals::Signal::Speed, speed_, m->header.stamp, m->twist.twist.linear.x, "a speed");
+    } else {
+      ++speed_.messages;
+      ++speed_.malformed;
+      speed_.problem(speed_.topic + ": a " + type +
+                     ": the speed is read from geometry_msgs/TwistStamped or nav_msgs/Odometry: left out");
+    }
   }
 
   std::optional<std::uint16_t> reference() {
@@ -198,10 +235,11 @@ class AutomotiveNode : public RadarNode {
     processReady();
   }
 
-  /// The complete cycles, oldest first, each once the gyro has reached past it (when it is fused).
+  /// The complete cycles, oldest first, each once the car's signals have reached past it (when they
+  /// are fused).
   void processReady() {
     while (!pending_.empty() &&
-           (!use_gyro_ || yaw_.reaches(pending_.front().timestamp_us + offset_us_, stream_us_ + offset_us_))) {
+           (!usesCar() || car_.reaches(pending_.front().timestamp_us + offset_us_, stream_us_ + offset_us_))) {
       process(pending_.front());
       pending_.pop_front();
     }
@@ -227,7 +265,7 @@ class AutomotiveNode : public RadarNode {
       have_valid_ = true;
     }
     const OdometryStep& step = odometry_->add(processed);
-    if (use_gyro_) yaw_.used(cycle.timestamp_us + offset_us_);
+    if (usesCar()) car_.used(cycle.timestamp_us + offset_us_);
     map_.add(*processed.cloud, step.pose);
     pub_.pose(step, cycle.timestamp_us, odom_frame_, d_.base_frame);
     if (pub_.wantsLocalMap()) pub_.localMap(*odometry_->localMap().cloud(), cycle.timestamp_us, d_.base_frame);
@@ -251,6 +289,9 @@ class AutomotiveNode : public RadarNode {
     if (use_gyro_)
       status.push_back(imu_.status(
           newest, "silent: no IMU message for over a second while the radars send; the last yaw rate is held"));
+    if (use_speed_)
+      status.push_back(speed_.status(
+          newest, "silent: no speed message for over a second while the radars send; the last speed is held"));
     diagnostic_msgs::DiagnosticStatus s;
     s.name = "radar_ndt: odometry";
     s.level = diagnostic_msgs::DiagnosticStatus::OK;
@@ -274,12 +315,13 @@ class AutomotiveNode : public RadarNode {
   EgoVelocity last_valid_;
   bool have_valid_ = false;
   std::vector<Channel> channels_;
-  TopicState imu_;  ///< the IMU topic's counters (its mounting unused: only the yaw rate is fused)
-  bool use_gyro_ = false;
-  std::int64_t offset_us_ = 0;  ///< the gyro's clock minus the radars' (odometry.car.time_offset)
-  ros1::LiveYawRate yaw_;
+  TopicState imu_;    ///< the IMU topic's counters (its mounting unused: only the yaw rate is fused)
+  TopicState speed_;  ///< the speed topic's
+  bool use_gyro_ = false, use_speed_ = false;
+  std::int64_t offset_us_ = 0;  ///< the car's clock minus the radars' (odometry.car.time_offset)
+  ros1::LiveVehicleSignals car_;
   std::int64_t stream_us_ = -1;     ///< the newest message time seen, on the radars' clock
-  std::deque<RadarCycle> pending_;  ///< complete cycles waiting for the gyro
+  std::deque<RadarCycle> pending_;  ///< complete cycles waiting for the car's signals
   std::uint16_t reference_ = 0;
   std::unique_ptr<ros1::LiveCycles> live_;
   std::vector<RadarSweepData> waiting_;

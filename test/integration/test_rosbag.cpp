@@ -20,7 +20,7 @@
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/scanning_run.h"
 #include "radar_ndt/ros/live_cycles.h"
-#include "radar_ndt/ros/live_yaw_rate.h"
+#include "radar_ndt/ros/live_vehicle_signals.h"
 #include "radar_ndt/ros/nuscenes_bag.h"
 #include "radar_ndt/ros/point_cloud2.h"
 #include "radar_ndt/ros/ros_time.h"
@@ -294,12 +294,14 @@ TEST(LiveCycles, PlansAsTheOfflinePlannerAsSweepsArrive) {
 // (sorted, a repeated stamp's first value, NaN left out), a cycle released only once a sample at
 // or after its time has arrived (or the gyro is a second of the stream silent), integrals equal to
 // the whole series', late samples refused once their interval has been integrated.
-TEST(LiveYawRate, GrowsAsTheOfflineSeriesAndReleasesACycleOnceItIsReached) {
-  ros1::LiveYawRate live("/imu");
+TEST(LiveVehicleSignals, GrowAsTheOfflineSeriesAndReleaseACycleOnceReached) {
+  using Signal = ros1::LiveVehicleSignals::Signal;
+  const Signal yaw = Signal::YawRate;
+  ros1::LiveVehicleSignals live("/imu");
   TimeSeries offline;
   const std::vector<std::pair<std::int64_t, double>> arrivals{{0, 0.10},    {10000, 0.12}, {30000, 0.20}, {20000, 0.15},
                                                               {30000, 9.0}, {40000, 0.25}, {50000, 0.30}};
-  for (const auto& [t, v] : arrivals) live.add(t, v);
+  for (const auto& [t, v] : arrivals) live.add(yaw, t, v);
   for (const auto& [t, v] : std::vector<std::pair<std::int64_t, double>>{
            {0, 0.10}, {10000, 0.12}, {20000, 0.15}, {30000, 0.20}, {40000, 0.25}, {50000, 0.30}}) {
     offline.stamps_us.push_back(t);
@@ -308,7 +310,7 @@ TEST(LiveYawRate, GrowsAsTheOfflineSeriesAndReleasesACycleOnceItIsReached) {
   const TimeSeries& s = live.signals()->yaw_rate;
   EXPECT_EQ(s.stamps_us, offline.stamps_us) << "out of order to its place, the repeated stamp's first value";
   EXPECT_EQ(s.values, offline.values);
-  EXPECT_EQ(live.add(60000, std::nan("")), ros1::LiveYawRate::Added::NotFinite);
+  EXPECT_EQ(live.add(yaw, 60000, std::nan("")), ros1::LiveVehicleSignals::Added::NotFinite);
   EXPECT_EQ(live.signals()->dropped, 1u);
   // A cycle ending at 45 ms is reached (50 ms is there); one at 55 ms not, until the gyro is silent
   // for a second of the stream.
@@ -322,12 +324,33 @@ TEST(LiveYawRate, GrowsAsTheOfflineSeriesAndReleasesACycleOnceItIsReached) {
   live.used(25000);
   EXPECT_EQ(s.stamps_us.front(), 20000) << "the last sample at or before 25 ms is kept for the interpolation";
   EXPECT_DOUBLE_EQ(s.integral(25000, 47000), offline.integral(25000, 47000));
-  EXPECT_EQ(live.add(24000, 1.0), ros1::LiveYawRate::Added::Late);
-  EXPECT_EQ(live.add(26000, 0.21), ros1::LiveYawRate::Added::Taken) << "after the integrated time: taken";
+  EXPECT_EQ(live.add(yaw, 24000, 1.0), ros1::LiveVehicleSignals::Added::Late);
+  EXPECT_EQ(live.add(yaw, 26000, 0.21), ros1::LiveVehicleSignals::Added::Taken) << "after the integrated time: taken";
   live.reset();
   EXPECT_TRUE(live.signals()->yaw_rate.empty());
-  EXPECT_EQ(live.add(0, 0.1), ros1::LiveYawRate::Added::Taken) << "after a reset, earlier times are taken";
+  EXPECT_EQ(live.add(yaw, 0, 0.1), ros1::LiveVehicleSignals::Added::Taken) << "after a reset, earlier times are taken";
   EXPECT_FALSE(live.reaches(1000, 1000));
+}
+
+// With the speed in use too, a cycle waits for both signals; each is forgotten and refused late as
+// the yaw rate is, and a silent one stops being waited for after a second of the stream.
+TEST(LiveVehicleSignals, ACycleWaitsForEverySignalInUse) {
+  using Signal = ros1::LiveVehicleSignals::Signal;
+  ros1::LiveVehicleSignals live("/imu", {Signal::YawRate, Signal::Speed});
+  for (std::int64_t t = 0; t <= 50000; t += 10000) live.add(Signal::YawRate, t, 0.1);
+  live.add(Signal::Speed, 0, 5.0);
+  live.add(Signal::Speed, 20000, 6.0);
+  EXPECT_FALSE(live.reaches(30000, 50000)) << "the speed has not reached 30 ms";
+  live.add(Signal::Speed, 40000, 7.0);
+  EXPECT_TRUE(live.reaches(30000, 50000));
+  EXPECT_FALSE(live.reaches(45000, 50000));
+  EXPECT_TRUE(live.reaches(45000, 1045001)) << "a speed silent for a second is not waited for";
+  EXPECT_DOUBLE_EQ(live.signals()->speed.integral(0, 40000), 0.02 * 5.5 + 0.02 * 6.5);
+  live.used(30000);
+  EXPECT_EQ(live.signals()->speed.stamps_us.front(), 20000);
+  EXPECT_EQ(live.signals()->yaw_rate.stamps_us.front(), 30000);
+  EXPECT_EQ(live.add(Signal::Speed, 25000, 1.0), ros1::LiveVehicleSignals::Added::Late);
+  EXPECT_EQ(live.add(Signal::Speed, 50000, std::nan("")), ros1::LiveVehicleSignals::Added::NotFinite);
 }
 
 // A scanning radar's bag: the shared RADIATE scans written in CFEAR's image layout and read with

@@ -173,3 +173,54 @@ def test_scanning_radar_node_gives_the_offline_poses(ros_env, tmp_path):
         print(name, out.strip().splitlines()[-1])
         radar = [s for d in diag for s in d.status if s.name == "radar_ndt: /Navtech/Polar"]
         assert radar and int(dict((v.key, v.value) for v in radar[-1].values)["messages"]) == 40
+
+
+def add_speed_topic(bag, out):
+    """`bag` with a speed topic added: nav_msgs/Odometry on /vehicle/odom at every ground-truth
+    pose, twist.linear.x the speed between it and the next (the node reads either this type or
+    geometry_msgs/TwistStamped, told by each message's type)."""
+    import rosbag
+    import rospy
+    from nav_msgs.msg import Odometry
+    shutil.copy(bag, out)
+    poses = []
+    with rosbag.Bag(bag) as b:
+        for _, m, _ in b.read_messages(topics=["/tf"]):
+            for t in m.transforms:
+                if t.header.frame_id == "map" and t.child_frame_id == "base_link":
+                    poses.append((t.header.stamp, t.transform.translation.x, t.transform.translation.y))
+    written = 0
+    with rosbag.Bag(out, "a") as b:
+        for k, ((s0, x0, y0), (s1, x1, y1)) in enumerate(zip(poses, poses[1:])):
+            if s1 <= s0:
+                continue
+            o = Odometry()
+            o.header.stamp = s0
+            o.twist.twist.linear.x = float(np.hypot(x1 - x0, y1 - y0) / (s1 - s0).to_sec())
+            b.write("/vehicle/odom", o, s0)
+            written += 1
+            if k == 10:  # a speed that is not a number: left out by both, said by the node
+                o.header.stamp = s0 + rospy.Duration(0.001)
+                o.twist.twist.linear.x = float("nan")
+                b.write("/vehicle/odom", o, o.header.stamp)
+    return written
+
+
+def test_with_the_speed_the_node_gives_the_offline_wheels_poses(ros_env, tmp_path):
+    env, work = ros_env
+    bag = str(tmp_path / "speed.bag")
+    assert add_speed_topic(write_bag(work), bag) > 100
+    sensors = tmp_path / "ars408_speed.yaml"
+    preset = os.path.join(os.path.dirname(__file__), "..", "..", "config", "sensors", "nuscenes_ars408.yaml")
+    sensors.write_text(open(preset).read() + "speed: /vehicle/odom\n")
+    expected = offline(bag, work, "--imu", "--wheels", sensors=str(sensors))
+    gyro_only = offline(bag, work, "--imu", sensors=str(sensors))
+    assert np.abs(expected[:, 1:3] - gyro_only[:, 1:3]).max() > 1e-3  # the speed is seen used
+    poses, diag, out = run_node(env, work, bag, 10.0, "speed-fast", "_odometry/car/gyro:=true",
+                                "_odometry/car/wheels:=true", sensors=str(sensors),
+                                topics=NUSCENES_TOPICS + ["/vehicle/odom"])
+    assert_same_poses(poses, expected, "speed-fast", out)
+    print("speed-fast", out.strip().splitlines()[-1])
+    speed = [s for d in diag for s in d.status if s.name == "radar_ndt: /vehicle/odom"]
+    counts = dict((v.key, v.value) for v in speed[-1].values) if speed else {}
+    assert int(counts.get("messages", 0)) > 100 and counts["not a speed"] == "1", counts

@@ -156,7 +156,9 @@ class AutomotiveNode : public RadarNode {
       m[static_cast<std::uint16_t>(i)] = toMounting(*channels_[i].mounting);
     }
     reference_ = chooseReferenceChannel(m, names, d_.reference, "the node's radars");
-    live_ = std::make_unique<ros1::LiveCycles>(reference_, period_us_);
+    std::vector<std::uint16_t> all;
+    for (std::size_t i = 0; i < d_.radars.size(); ++i) all.push_back(static_cast<std::uint16_t>(i));
+    live_ = std::make_unique<ros1::LiveCycles>(reference_, period_us_, all);
     for (auto& s : waiting_) live_->add(std::move(s));
     waiting_.clear();
     return reference_;

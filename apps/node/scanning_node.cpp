@@ -54,7 +54,7 @@ class ScanningNode : public RadarNode {
     imu_.hardware_id = "imu";
     imu_.malformed_name = "not a number";
     restartOdometry();
-    subs_.push_back(nh.subscribe<sensor_msgs::Image>(radar_.topic, 20, [this](const auto& m) { onImage(m); }));
+    subs_.push_back(nh.subscribe<sensor_msgs::Image>(radar_.topic, 100, [this](const auto& m) { onImage(m); }));
     if (use_gyro_)
       subs_.push_back(nh.subscribe<sensor_msgs::Imu>(d_.imu_topic, 2000, [this](const auto& m) { onImu(*m); }));
     diag_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnose(); });

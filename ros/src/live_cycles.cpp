@@ -15,6 +15,7 @@ std::int64_t LiveCycles::periodUs() const {
 
 LiveCycles::Added LiveCycles::add(RadarSweepData sweep) {
   const std::int64_t t = sweep.timestamp_us;
+  first_us_ = first_us_ < 0 ? t : std::min(first_us_, t);
   if (last_out_us_ >= 0 && t <= last_out_us_ && !(t == last_out_us_ && sweep.sensor_id != reference_))
     return Added::Late;
   auto& mine = sweeps_[sweep.sensor_id];
@@ -33,9 +34,15 @@ LiveCycles::Added LiveCycles::add(RadarSweepData sweep) {
 }
 
 bool LiveCycles::complete(std::int64_t t_ref) const {
-  // Every other radar that has spoken has sent a sweep after t_ref, so none of the cycle's can
-  // still be on the way; a radar silent for a second of the stream's time (the reference's newest
-  // sweep) is not waited for.
+  // Every other radar has sent a sweep after t_ref, so none of the cycle's can still be on the way;
+  // a radar silent for a second of the stream's time (the reference's newest sweep) is not waited
+  // for, nor an expected one that has not spoken in the stream's first second.
+  for (const std::uint16_t channel : expected_) {
+    const auto it = sweeps_.find(channel);
+    if (channel != reference_ && (it == sweeps_.end() || it->second.empty()) &&
+        last_reference_us_ - first_us_ < kSilenceUs)
+      return false;
+  }
   for (const auto& [channel, list] : sweeps_)
     if (channel != reference_ && !list.empty() && list.back().timestamp_us <= t_ref &&
         last_reference_us_ - list.back().timestamp_us < kSilenceUs)
@@ -89,7 +96,7 @@ void LiveCycles::reset() {
   sweeps_.clear();
   pending_.clear();
   intervals_.clear();
-  last_reference_us_ = last_out_us_ = -1;
+  last_reference_us_ = last_out_us_ = first_us_ = -1;
 }
 
 }  // namespace ros1

@@ -290,6 +290,32 @@ TEST(LiveCycles, PlansAsTheOfflinePlannerAsSweepsArrive) {
   EXPECT_EQ(live.add(sweepAt(500000, 0)), ros1::LiveCycles::Added::Taken) << "after a reset, earlier times are taken";
 }
 
+// The start of a stream (or of a bag played again): the expected radars are waited for before
+// they have spoken, so the first cycle holds the sweep a radar whose message arrives last sent
+// before the reference's; an expected radar that never speaks holds the cycles for a second.
+TEST(LiveCycles, TheFirstCyclesWaitForEveryExpectedRadar) {
+  ros1::LiveCycles live(0, 100000, {0, 1, 2});
+  live.add(sweepAt(990000, 1));
+  live.add(sweepAt(1000000, 0));
+  live.add(sweepAt(1010000, 1));
+  EXPECT_FALSE(live.next()) << "radar 2 has not spoken: its sweep before t_ref may be on the way";
+  live.add(sweepAt(980000, 2));
+  EXPECT_FALSE(live.next()) << "radar 2 may still send a sweep up to t_ref";
+  live.add(sweepAt(1020000, 2));
+  auto c = live.next();
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c->sweeps.size(), 3u) << "the late speaker's sweep is in the first cycle";
+  // An expected radar that never speaks: the cycles go on after a second of the stream.
+  ros1::LiveCycles silent(0, 100000, {0, 1, 2});
+  for (int k = 0; k <= 9; ++k) {
+    silent.add(sweepAt(1000000 + 100000 * k, 0));
+    silent.add(sweepAt(1010000 + 100000 * k, 1));
+  }
+  EXPECT_FALSE(silent.next()) << "the stream has run 0.9 s: radar 2 is still waited for";
+  silent.add(sweepAt(2000000, 0));
+  EXPECT_TRUE(silent.next()) << "after over a second it is not";
+}
+
 // The node's gyro as messages arrive: the series the offline reader builds from the whole bag
 // (sorted, a repeated stamp's first value, NaN left out), a cycle released only once a sample at
 // or after its time has arrived (or the gyro is a second of the stream silent), integrals equal to

@@ -78,7 +78,7 @@ def reference_period(bag, topic="/RADAR_FRONT"):
 
 
 def run_node(env, work, bag, rate, name, *params, sensors="preset:nuscenes_ars408", topics=NUSCENES_TOPICS,
-             period=None):
+             period=None, plays=1):
     recorded = work / f"{name}.bag"
     # Private parameters outlive a node on the master: a previous run's would be read again.
     subprocess.run(["rosparam", "delete", "/radar_ndt"], env=env, capture_output=True)
@@ -92,8 +92,9 @@ def run_node(env, work, bag, rate, name, *params, sensors="preset:nuscenes_ars40
     # -d: a pause after advertising, so that the node's subscriptions are connected before the first
     # messages go out (a message published before its subscriber connects is lost: under load the
     # IMU's first samples were, and the gyro's integral to the second cycle with them).
-    subprocess.run(["rosbag", "play", "-q", "-d", "2", "-r", str(rate), bag, "--topics", *topics],
-                   env=env, check=True, capture_output=True)
+    for _ in range(plays):  # played again: the stream's time jumps back
+        subprocess.run(["rosbag", "play", "-q", "-d", "2", "-r", str(rate), bag, "--topics", *topics],
+                       env=env, check=True, capture_output=True)
     # The last cycles flushed (after ~flush_after of quiet) and recorded; a slow build (ASan) is still
     # working off its queue of cycles when a bag played at 10x ends.
     time.sleep(8)
@@ -165,14 +166,17 @@ def test_scanning_radar_node_gives_the_offline_poses(ros_env, tmp_path):
     gyro = offline(bag, work, "--imu", sensors=sensors)
     assert len(plain) == 40 and np.abs(gyro[:, 1:3] - plain[:, 1:3]).max() > 1e-3  # the gyro is seen used
     period = reference_period(bag, "/Navtech/Polar")
-    for expected, rate, name, params in ((plain, 1.0, "scanning", []),
-                                         (gyro, 10.0, "scanning-gyro-fast", ["_odometry/gyro/enabled:=true"])):
+    # At 10x the bag is played twice: the second pass starts again and gives the same poses.
+    for expected, rate, plays, name, params in ((plain, 1.0, 1, "scanning", []),
+                                                (gyro, 10.0, 2, "scanning-gyro-fast", ["_odometry/gyro/enabled:=true"])):
         poses, diag, out = run_node(env, work, bag, rate, name, *params, sensors=sensors,
-                                    topics=["/Navtech/Polar", "/imu"], period=period)
-        assert_same_poses(poses, expected, name, out)
+                                    topics=["/Navtech/Polar", "/imu"], period=period, plays=plays)
+        assert len(poses) == plays * len(expected), f"{name}: {len(poses)} poses\n{out}"
+        for k in range(plays):
+            assert_same_poses(poses[k * len(expected):(k + 1) * len(expected)], expected, f"{name} pass {k + 1}", out)
         print(name, out.strip().splitlines()[-1])
         radar = [s for d in diag for s in d.status if s.name == "radar_ndt: /Navtech/Polar"]
-        assert radar and int(dict((v.key, v.value) for v in radar[-1].values)["messages"]) == 40
+        assert radar and int(dict((v.key, v.value) for v in radar[-1].values)["messages"]) == 40 * plays
 
 
 def add_speed_topic(bag, out):
@@ -224,3 +228,18 @@ def test_with_the_speed_the_node_gives_the_offline_wheels_poses(ros_env, tmp_pat
     speed = [s for d in diag for s in d.status if s.name == "radar_ndt: /vehicle/odom"]
     counts = dict((v.key, v.value) for v in speed[-1].values) if speed else {}
     assert int(counts.get("messages", 0)) > 100 and counts["not a speed"] == "1", counts
+
+
+def test_a_bag_played_again_starts_the_odometry_again(ros_env):
+    """A bag played twice (as `rosbag play -l` does): the time jumps back, the node warns, says so
+    in /diagnostics and starts again, and the second pass gives the offline poses again."""
+    env, work = ros_env
+    bag = write_bag(work)
+    expected = offline(bag, work)
+    poses, diag, out = run_node(env, work, bag, 10.0, "again", plays=2)
+    assert len(poses) == 2 * len(expected), f"{len(poses)} poses for two passes of {len(expected)}\n{out}"
+    assert_same_poses(poses[:len(expected)], expected, "first pass", out)
+    assert_same_poses(poses[len(expected):], expected, "second pass", out)
+    assert "time jumped back" in out and "starts again" in out, out
+    said = [s.message for d in diag for s in d.status if "time jumped back" in s.message]
+    assert said, "the jump is said in /diagnostics"

@@ -77,6 +77,24 @@ def reference_period(bag, topic="/RADAR_FRONT"):
     return float(np.median(np.diff(sorted(t)))) * 1e-6
 
 
+def wait_subscribed(env, wanted, timeout=60):
+    """Waits until, for each topic, a node whose name starts with the given prefix subscribes to
+    it (the master's system state): a loaded machine can take seconds to start the recorder."""
+    import rosgraph
+    os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
+    master = rosgraph.Master("/test_node", master_uri=env["ROS_MASTER_URI"])
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        try:
+            subscribers = dict(master.getSystemState()[1])
+        except Exception:  # the master is busy: ask again
+            subscribers = {}
+        if all(any(n.startswith(prefix) for n in subscribers.get(topic, [])) for topic, prefix in wanted.items()):
+            return
+        time.sleep(0.2)
+    pytest.fail(f"not subscribed within {timeout} s: {wanted}")
+
+
 def run_node(env, work, bag, rate, name, *params, sensors="preset:nuscenes_ars408", topics=NUSCENES_TOPICS,
              period=None, plays=1):
     recorded = work / f"{name}.bag"
@@ -88,7 +106,7 @@ def run_node(env, work, bag, rate, name, *params, sensors="preset:nuscenes_ars40
                             env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     record = subprocess.Popen(["rosbag", "record", "-O", str(recorded), "/radar_ndt/odometry", "/diagnostics"],
                               env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    time.sleep(3)  # the node and the recorder subscribed
+    wait_subscribed(env, {"/radar_ndt/odometry": "/record", topics[0]: "/radar_ndt"})
     # -d: a pause after advertising, so that the node's subscriptions are connected before the first
     # messages go out (a message published before its subscriber connects is lost: under load the
     # IMU's first samples were, and the gyro's integral to the second cycle with them).

@@ -50,18 +50,13 @@ class AutomotiveNode : public RadarNode {
     if (use_gyro_) in_use.push_back(ros1::LiveVehicleSignals::Signal::YawRate);
     if (use_speed_) in_use.push_back(ros1::LiveVehicleSignals::Signal::Speed);
     car_ = ros1::LiveVehicleSignals(use_gyro_ ? d_.imu_topic : d_.speed_topic, in_use);
-    imu_.topic = d_.imu_topic;
-    imu_.hardware_id = "imu";
-    imu_.malformed_name = "not a number";
-    speed_.topic = d_.speed_topic;
-    speed_.hardware_id = "speed";
-    speed_.malformed_name = "not a speed";
+    imu_ = TopicState(d_.imu_topic, "imu", "not a number");
+    speed_ = TopicState(d_.speed_topic, "speed", "not a speed");
     resetOdometry();
     for (std::size_t i = 0; i < d_.radars.size(); ++i) {
       const RadarDescription& r = d_.radars[i];
       channels_.emplace_back();
-      channels_.back().state.topic = r.topic;
-      channels_.back().state.hardware_id = r.name;
+      channels_.back().state = TopicState(r.topic, r.name);
       if (r.mounting) channels_.back().mounting = r.mounting->transform();
       subs_.push_back(nh.subscribe<sensor_msgs::PointCloud2>(
           r.topic, 200, [this, i](const sensor_msgs::PointCloud2::ConstPtr& m) { onCloud(i, *m); }));
@@ -115,13 +110,7 @@ class AutomotiveNode : public RadarNode {
     const std::int64_t t = stampOf(d_.stamps, header);
     if (state.arrived(t)) restart(state.last_problem, state, t);
     stream_us_ = std::max(stream_us_, t - offset_us_);
-    const auto added = car_.add(signal, t, value);
-    if (added == ros1::LiveVehicleSignals::Added::NotFinite || added == ros1::LiveVehicleSignals::Added::Late) {
-      const bool nan = added == ros1::LiveVehicleSignals::Added::NotFinite;
-      ++(nan ? state.malformed : state.late);
-      state.problem(state.topic + (nan ? std::string(": ") + what + " that is not a number: left out"
-                                       : std::string(": a message older than the cycles already matched: left out")));
-    }
+    takeSignal(car_, signal, state, t, value, what, "cycles");
     processReady();
   }
 
@@ -294,15 +283,7 @@ class AutomotiveNode : public RadarNode {
     if (use_speed_)
       status.push_back(speed_.status(
           newest, "silent: no speed message for over a second while the radars send; the last speed is held"));
-    diagnostic_msgs::DiagnosticStatus s;
-    s.name = "radar_ndt: odometry";
-    s.level = diagnostic_msgs::DiagnosticStatus::OK;
-    s.message = std::to_string(cycles_) + " cycles";
-    diagnostic_msgs::KeyValue lat;
-    lat.key = "latency_median_ms";
-    lat.value = std::to_string(timing_.medianLatencyMs());
-    s.values.push_back(lat);
-    status.push_back(s);
+    status.push_back(timing_.status(cycles_, "cycles"));
     pub_.diagnostics(std::move(status));
   }
 

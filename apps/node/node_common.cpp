@@ -149,6 +149,28 @@ double CycleTiming::medianLatencyMs() const {
   return 1e3 * percentile(latency_s, 0.5);
 }
 
+diagnostic_msgs::DiagnosticStatus CycleTiming::status(std::size_t count, const std::string& unit) const {
+  diagnostic_msgs::DiagnosticStatus s;
+  s.name = "radar_ndt: odometry";
+  s.level = diagnostic_msgs::DiagnosticStatus::OK;
+  s.message = std::to_string(count) + " " + unit;
+  diagnostic_msgs::KeyValue lat;
+  lat.key = "latency_median_ms";
+  lat.value = std::to_string(medianLatencyMs());
+  s.values.push_back(lat);
+  return s;
+}
+
+void takeSignal(ros1::LiveVehicleSignals& signals, ros1::LiveVehicleSignals::Signal signal, TopicState& state,
+                std::int64_t t_us, double value, const std::string& what, const std::string& cycles) {
+  const auto added = signals.add(signal, t_us, value);
+  if (added != ros1::LiveVehicleSignals::Added::NotFinite && added != ros1::LiveVehicleSignals::Added::Late) return;
+  const bool nan = added == ros1::LiveVehicleSignals::Added::NotFinite;
+  ++(nan ? state.malformed : state.late);
+  state.problem(state.topic + (nan ? ": " + what + " that is not a number: left out"
+                                   : ": a message older than the " + cycles + " already matched: left out"));
+}
+
 Publishers::Publishers(ros::NodeHandle& nh, ros::NodeHandle& pn)
     : odom_(pn.advertise<nav_msgs::Odometry>("odometry", 100)),
       local_map_(pn.advertise<sensor_msgs::PointCloud2>("local_map", 5)),

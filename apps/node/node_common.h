@@ -14,6 +14,7 @@
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/odometry/odometry_step.h"
 #include "radar_ndt/point_types.h"
+#include "radar_ndt/ros/live_vehicle_signals.h"
 
 namespace radar_ndt {
 namespace node {
@@ -32,6 +33,10 @@ std::int64_t stampOf(StampSource rule, const ros::Time& header);
 
 /// An input topic's counters, for /diagnostics.
 struct TopicState {
+  TopicState() = default;
+  TopicState(std::string topic_, std::string hardware_id_, std::string malformed_name_ = "malformed")
+      : topic(std::move(topic_)), hardware_id(std::move(hardware_id_)), malformed_name(std::move(malformed_name_)) {}
+
   std::string topic, hardware_id;
   std::string malformed_name = "malformed";  ///< what the malformed messages are called in the status
   std::size_t messages = 0, malformed = 0, late = 0;
@@ -50,12 +55,20 @@ struct TopicState {
                                            const std::vector<std::pair<std::string, std::string>>& extra = {}) const;
 };
 
+/// A sample of one of the car's signals (`what`: "a yaw rate") at `t_us` into `signals`, as the
+/// offline reader takes it; one that is not a number or older than what was already matched (the
+/// node's `cycles`) is counted on `state` and said.
+void takeSignal(ros1::LiveVehicleSignals& signals, ros1::LiveVehicleSignals::Signal signal, TopicState& state,
+                std::int64_t t_us, double value, const std::string& what, const std::string& cycles);
+
 /// The latency (reference message received -> odometry published) and CPU of each cycle.
 struct CycleTiming {
   std::vector<double> latency_s, cpu_s;
   /// The figures, printed at the end.
   void report(std::size_t cycles) const;
   double medianLatencyMs() const;
+  /// The odometry's status: `count` and what they are ("cycles", "sweeps"), the median latency.
+  diagnostic_msgs::DiagnosticStatus status(std::size_t count, const std::string& unit) const;
 };
 
 /// The node's publishers: ~odometry, ~local_map, ~map, /tf and /diagnostics.

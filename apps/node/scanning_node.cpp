@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <deque>
 
+#include <pcl/common/transforms.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
 
@@ -48,11 +49,8 @@ class ScanningNode : public RadarNode {
       throw std::invalid_argument("~odometry/gyro/enabled: " + d_.source + " names no imu topic");
     offset_us_ = std::llround(options_.odometry.gyro.time_offset * 1e6);
     yaw_ = ros1::LiveVehicleSignals(d_.imu_topic);
-    radar_state_.topic = radar_.topic;
-    radar_state_.hardware_id = radar_.name;
-    imu_.topic = d_.imu_topic;
-    imu_.hardware_id = "imu";
-    imu_.malformed_name = "not a number";
+    radar_state_ = TopicState(radar_.topic, radar_.name);
+    imu_ = TopicState(d_.imu_topic, "imu", "not a number");
     restartOdometry();
     subs_.push_back(nh.subscribe<sensor_msgs::Image>(radar_.topic, 100, [this](const auto& m) { onImage(m); }));
     if (use_gyro_)
@@ -92,13 +90,8 @@ class ScanningNode : public RadarNode {
     const std::int64_t t = stampOf(d_.stamps, msg.header.stamp);
     if (imu_.arrived(t)) restart(imu_, t);
     stream_us_ = std::max(stream_us_, t - offset_us_);
-    const auto added = yaw_.add(ros1::LiveVehicleSignals::Signal::YawRate, t, msg.angular_velocity.z);
-    if (added == ros1::LiveVehicleSignals::Added::NotFinite || added == ros1::LiveVehicleSignals::Added::Late) {
-      const bool nan = added == ros1::LiveVehicleSignals::Added::NotFinite;
-      ++(nan ? imu_.malformed : imu_.late);
-      imu_.problem(d_.imu_topic + (nan ? ": a yaw rate that is not a number: left out"
-                                       : ": a message older than the sweeps already matched: left out"));
-    }
+    takeSignal(yaw_, ros1::LiveVehicleSignals::Signal::YawRate, imu_, t, msg.angular_velocity.z, "a yaw rate",
+               "sweeps");
     processReady(false);
   }
 
@@ -190,14 +183,8 @@ class ScanningNode : public RadarNode {
   void publishKeyframe(const OdometryStep& step, std::int64_t t_us) {
     const pcl::PointCloud<PointRadar>::ConstPtr keyframe = stream_->odometry().keyframeCloud();
     if (!keyframe) return;
-    const Pose2 rel = between(step.pose, keyframe_pose_);
-    const double c = std::cos(rel.z()), sn = std::sin(rel.z());
-    pcl::PointCloud<PointRadar> local = *keyframe;
-    for (PointRadar& p : local.points) {
-      const float x = p.x, y = p.y;
-      p.x = static_cast<float>(rel.x() + c * x - sn * y);
-      p.y = static_cast<float>(rel.y() + sn * x + c * y);
-    }
+    pcl::PointCloud<PointRadar> local;
+    pcl::transformPointCloud(*keyframe, local, toMatrix4(between(step.pose, keyframe_pose_)));
     pub_.localMap(local, t_us, d_.base_frame);
   }
 
@@ -209,15 +196,7 @@ class ScanningNode : public RadarNode {
     if (use_gyro_)
       status.push_back(imu_.status(
           newest, "silent: no IMU message for over a second while the radar sends; the last yaw rate is held"));
-    diagnostic_msgs::DiagnosticStatus s;
-    s.name = "radar_ndt: odometry";
-    s.level = diagnostic_msgs::DiagnosticStatus::OK;
-    s.message = std::to_string(cycles_) + " sweeps";
-    diagnostic_msgs::KeyValue lat;
-    lat.key = "latency_median_ms";
-    lat.value = std::to_string(timing_.medianLatencyMs());
-    s.values.push_back(lat);
-    status.push_back(s);
+    status.push_back(timing_.status(cycles_, "sweeps"));
     pub_.diagnostics(std::move(status));
   }
 

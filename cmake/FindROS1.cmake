@@ -1,4 +1,4 @@
-# FindROS1: Debian's ROS 1 (Noetic-era packages: ros-core-dev, librosbag-dev, libroscpp-dev, the
+# FindROS1: Debian's ROS 1 (Noetic-era packages: ros-core-dev, librosbag-dev, libtf2-msgs-dev, the
 # message packages) as imported targets, without catkin: Debian's catkin configurations of rosbag
 # pull in pluginlib's ament (ROS 2) CMake, which runs a Python module that only the system Python
 # has. What RadarNDT uses is plain headers and shared libraries, found here directly.

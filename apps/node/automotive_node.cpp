@@ -87,9 +87,11 @@ class AutomotiveNode : public RadarNode {
     have_valid_ = false;
   }
 
-  /// The stream went back in time (a bag played again) on `from`, at `t`: everything starts again.
+  /// The stream went back in time (a bag played again) on `from`, at `t`: the old stream's cycles
+  /// still held are run, as at its end offline, and everything starts again.
   void restart(const std::string& why, TopicState& from, std::int64_t t) {
     ROS_WARN_STREAM("radar_ndt_node: " << why << ": the odometry starts again");
+    finishStream();
     live_.reset();
     waiting_.clear();
     pending_.clear();
@@ -241,7 +243,14 @@ class AutomotiveNode : public RadarNode {
     ros::WallTime last;
     for (const auto& c : channels_) last = std::max(last, c.state.last_arrival);
     if (last.isZero() || (ros::WallTime::now() - last).toSec() < flush_after_) return;
-    for (RadarCycle& cycle : live_->flush()) pending_.push_back(std::move(cycle));
+    finishStream();
+  }
+
+  /// The stream ended (quiet, or played again): every cycle still held is run, complete or not and
+  /// whether or not the car's signals reached it, as the offline run ends at the bag's end.
+  void finishStream() {
+    if (live_)
+      for (RadarCycle& cycle : live_->flush()) pending_.push_back(std::move(cycle));
     for (RadarCycle& cycle : pending_) process(cycle);
     pending_.clear();
   }

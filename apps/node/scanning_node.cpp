@@ -72,10 +72,11 @@ class ScanningNode : public RadarNode {
     keyframe_pose_ = Pose2::Zero();
   }
 
-  /// The stream went back in time (a bag played again) on `from`, at `t`: everything starts again.
+  /// The stream went back in time (a bag played again) on `from`, at `t`: the old stream's sweeps
+  /// still held are run, as at its end offline, and everything starts again.
   void restart(TopicState& from, std::int64_t t) {
     ROS_WARN_STREAM("radar_ndt_node: " << from.last_problem << ": the odometry starts again");
-    pending_.clear();
+    processReady(true);
     last_taken_us_ = -1;
     intervals_.clear();
     median_interval_us_ = 0;

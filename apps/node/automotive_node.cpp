@@ -91,10 +91,9 @@ class AutomotiveNode : public RadarNode {
   /// still held are run, as at its end offline, and everything starts again.
   void restart(const std::string& why, TopicState& from, std::int64_t t) {
     ROS_WARN_STREAM("radar_ndt_node: " << why << ": the odometry starts again");
-    finishStream();
+    finishStream();  // empties pending_
     live_.reset();
     waiting_.clear();
-    pending_.clear();
     for (auto& c : channels_) c.state.last_us = -1;
     imu_.last_us = speed_.last_us = -1;
     stream_us_ = -1;

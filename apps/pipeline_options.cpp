@@ -80,19 +80,23 @@ std::string helpOf(const std::vector<Side>& sides) {
   return out;
 }
 
-/// Sets the options the command line gives over `o`: those of `scope`'s layout, and those of no
-/// layout.
+/// The settings the command line gives: those of `scope`'s layout, and those of no layout, each a
+/// field's path with the value its text gives (typed by the field).
 template <typename R>
-void applyGiven(const po::variables_map& vm, const std::vector<FieldOption<R>>& fields, const std::string& scope,
-                R& o) {
+Settings givenSettings(const po::variables_map& vm, const std::vector<FieldOption<R>>& fields,
+                       const std::string& scope) {
+  Settings given;
   for (const auto& f : fields) {
     if (!f.scope.empty() && f.scope != scope) continue;
     if (f.off_switch) {
-      if (vm[f.option].template as<bool>()) f.set(o, "");
+      if (vm[f.option].template as<bool>()) given.push_back({f.path, f.value(""), "--" + f.option});
     } else if (vm.count(f.option)) {
-      f.set(o, vm[f.option].template as<std::string>());
+      given.push_back({f.path, f.value(vm[f.option].template as<std::string>()), "--" + f.option});
     }
   }
+  if (vm.count("no-prefetch") && vm["no-prefetch"].as<bool>())
+    given.push_back({"threads", FieldValue(1), "--no-prefetch"});
+  return given;
 }
 
 /// The pipeline options, in the order --help lists them, with each one's sides.
@@ -196,27 +200,23 @@ void addPipelineOptions(po::options_description& opts) {
                                                                                   "no progress bar");
 }
 
+Settings automotiveSettings(const po::variables_map& vm) {
+  refuseUnused(vm, automotiveFields(), "", vm["format"].as<std::string>());
+  return givenSettings(vm, automotiveFields(), "");
+}
+
+Settings scanningSettings(const po::variables_map& vm) {
+  const std::string format = vm["format"].as<std::string>();
+  refuseUnused(vm, scanningFields(), format, format);
+  return givenSettings(vm, scanningFields(), format);
+}
+
 AutomotiveRunOptions automotiveOptions(const po::variables_map& vm) {
-  AutomotiveRunOptions o;
-  refuseUnused(vm, automotiveFields(), "", "nuscenes");
-  applyGiven(vm, automotiveFields(), "", o);
-  // The paper's scheme is submap to submap, not fused: the mode chooses both.
-  if (vm.count("mode") && o.odometry.mode == AutomotiveMatchMode::SubmapToSubmap)
-    o.odometry = o.odometry.paper(o.odometry.submap_size);
-  if (vm["no-prefetch"].as<bool>()) o.threads = 1;
-  o = withMethod(o, o.matcher.method);
-  o.validate();
-  return o;
+  return automotiveRunOptions(automotiveSettings(vm));
 }
 
 ScanningRunOptions scanningOptions(const po::variables_map& vm, const ScanningRunOptions& base) {
-  ScanningRunOptions o = base;
-  const std::string format = vm["format"].as<std::string>();
-  refuseUnused(vm, scanningFields(), format, format);
-  applyGiven(vm, scanningFields(), format, o);
-  if (vm["no-prefetch"].as<bool>()) o.threads = 1;
-  o.validate();
-  return o;
+  return scanningRunOptions(scanningSettings(vm), vm["format"].as<std::string>(), base);
 }
 
 NuScenesDataset openDataset(const po::variables_map& vm) {

@@ -12,6 +12,7 @@
 
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/pipeline/automotive_run.h"
+#include "radar_ndt/pipeline/run_settings.h"
 #include "radar_ndt/pipeline/scanning_run.h"
 
 namespace radar_ndt {
@@ -29,6 +30,12 @@ void addPipelineOptions(boost::program_options::options_description& options);
 /// Every pipeline option as a markdown table: option, the field it sets, the pipeline or layout,
 /// its meaning and default (radar_odometry --list-options; docs/apps.md holds it).
 std::string pipelineOptionsMarkdown();
+
+/// The settings the command line gives for the automotive pipeline (nuscenes, rosbag) and the
+/// scanning one (--format's layout): each given option's field and typed value. An option that
+/// sets nothing for --format is refused (std::invalid_argument naming it).
+Settings automotiveSettings(const boost::program_options::variables_map& vm);
+Settings scanningSettings(const boost::program_options::variables_map& vm);
 
 /// The automotive run options the command line asks for (nuscenes); throws std::invalid_argument
 /// naming a bad value.

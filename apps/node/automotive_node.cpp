@@ -30,9 +30,7 @@ namespace {
 class AutomotiveNode : public RadarNode {
  public:
   AutomotiveNode(ros::NodeHandle& nh, ros::NodeHandle& pn, const SensorDescription& d) : d_(d), pub_(nh, pn) {
-    options_ = optionsFromParameters(pn, AutomotiveRunOptions{});
-    options_ = withMethod(options_, options_.matcher.method);
-    options_.validate();
+    options_ = automotiveRunOptions(nodeSettings(pn));
     double period = 0;
     pn.param("cycle_period", period, 0.0);
     period_us_ = static_cast<std::int64_t>(period * 1e6 + 0.5);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <stdexcept>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -12,7 +13,7 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_msgs/TFMessage.h>
 
-#include "field_options.h"
+#include "node/node_parameters.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/scanning_run.h"
 #include "radar_ndt/ros/ros_time.h"
@@ -68,32 +69,20 @@ void publishCloud(ros::Publisher& pub, const pcl::PointCloud<PointRadar>& cloud,
 
 }  // namespace
 
-template <typename O>
-O optionsFromParameters(const ros::NodeHandle& pn, O o) {
-  for (const auto& f : apps::fieldOptions(o, true)) {
-    std::string name = f.path;
-    std::replace(name.begin(), name.end(), '.', '/');
+Settings nodeSettings(const ros::NodeHandle& pn) {
+  const std::string prefix = pn.getNamespace() + "/";
+  std::vector<std::string> names;
+  pn.getParamNames(names);
+  std::map<std::string, XmlRpc::XmlRpcValue> params;
+  for (const std::string& name : names) {
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
     XmlRpc::XmlRpcValue v;
-    if (!pn.getParam(name, v)) continue;
-    std::string text;
-    switch (v.getType()) {
-      case XmlRpc::XmlRpcValue::TypeBoolean: text = static_cast<bool>(v) ? "true" : "false"; break;
-      case XmlRpc::XmlRpcValue::TypeInt: text = std::to_string(static_cast<int>(v)); break;
-      case XmlRpc::XmlRpcValue::TypeDouble: text = std::to_string(static_cast<double>(v)); break;
-      case XmlRpc::XmlRpcValue::TypeString: text = static_cast<std::string>(v); break;
-      default: throw std::invalid_argument("~" + name + ": expected a number, a boolean or text");
-    }
-    if (f.off_switch) {
-      if (text == "true") f.set(o, text);
-    } else {
-      f.set(o, text);
-    }
+    if (pn.getParam(name, v)) params[name.substr(prefix.size())] = v;
   }
-  return o;
+  Settings given = settingsFromParameters(params);
+  if (!given.empty()) ROS_INFO_STREAM("radar_ndt_node: settings: " << settingsText(given));
+  return given;
 }
-
-template AutomotiveRunOptions optionsFromParameters(const ros::NodeHandle&, AutomotiveRunOptions);
-template ScanningRunOptions optionsFromParameters(const ros::NodeHandle&, ScanningRunOptions);
 
 std::int64_t stampOf(StampSource rule, const ros::Time& header) {
   const bool use_header = rule == StampSource::Header || (rule == StampSource::Auto && !header.isZero());

@@ -13,6 +13,7 @@
 
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/odometry/odometry_step.h"
+#include "radar_ndt/pipeline/run_settings.h"
 #include "radar_ndt/point_types.h"
 #include "radar_ndt/ros/live_vehicle_signals.h"
 
@@ -22,11 +23,9 @@ namespace node {
 /// The calling thread's CPU time (s).
 double cpuSeconds();
 
-/// Options of type O from the private parameters over `defaults`, one for each field of O's
-/// table (a field's path with '/' for '.'), given as text, numbers or booleans. Defined for
-/// AutomotiveRunOptions and ScanningRunOptions; the caller validates.
-template <typename O>
-O optionsFromParameters(const ros::NodeHandle& pn, O defaults);
+/// The run's settings among the node's private parameters (node_parameters.h), each as its own
+/// type; printed when there are any.
+Settings nodeSettings(const ros::NodeHandle& pn);
 
 /// A message's time by the description's rule: its header stamp, or its arrival when it has none.
 std::int64_t stampOf(StampSource rule, const ros::Time& header);

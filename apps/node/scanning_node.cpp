@@ -35,8 +35,7 @@ class ScanningNode : public RadarNode {
       : d_(d), radar_(d.radars.at(0)), pub_(nh, pn) {
     if (d_.radars.size() != 1)
       throw std::invalid_argument("~sensors: " + d_.source + ": a scanning radar is described alone");
-    options_ = optionsFromParameters(pn, ScanningRunOptions{});
-    options_.validate();
+    options_ = scanningRunOptions(nodeSettings(pn), "rosbag");
     double period = 0;
     pn.param("cycle_period", period, 0.0);
     // The azimuths' times are spread over the sweep period: the described one, else this

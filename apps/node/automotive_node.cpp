@@ -5,6 +5,7 @@
 // offline --wheels) its speed topic's speed (geometry_msgs/TwistStamped or nav_msgs/Odometry), each
 // cycle held until the signals have reached past it (ros1::LiveVehicleSignals).
 #include <algorithm>
+#include <cstdio>
 #include <deque>
 #include <map>
 #include <optional>
@@ -21,6 +22,7 @@
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/ros/live_cycles.h"
 #include "radar_ndt/ros/live_vehicle_signals.h"
+#include "radar_ndt/ros/mounting_tree.h"
 #include "radar_ndt/ros/point_cloud2.h"
 
 namespace radar_ndt {
@@ -64,19 +66,32 @@ class AutomotiveNode : public RadarNode {
     if (use_speed_)  // either of two message types, told by each message's type
       subs_.push_back(
           nh.subscribe<topic_tools::ShapeShifter>(d_.speed_topic, 2000, [this](const auto& m) { onSpeed(*m); }));
-    subs_.push_back(nh.subscribe<tf2_msgs::TFMessage>("/tf", 200, [this](const auto& m) { onTf(*m); }));
-    subs_.push_back(nh.subscribe<tf2_msgs::TFMessage>("/tf_static", 20, [this](const auto& m) { onTf(*m); }));
+    // The mountings: whenever they arrive (a latched /tf_static reaches the node once, at its
+    // subscription, usually before any cloud names its frame).
+    subs_.push_back(nh.subscribe<tf2_msgs::TFMessage>("/tf", 200, [this](const auto& m) { onTf(*m, "/tf"); }));
+    subs_.push_back(
+        nh.subscribe<tf2_msgs::TFMessage>("/tf_static", 20, [this](const auto& m) { onTf(*m, "/tf_static"); }));
     diag_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnose(); });
     flush_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) { flushIfQuiet(); });
   }
 
-  void report() const override { timing_.report(cycles_); }
+  void report() const override {
+    timing_.report(cycles_);
+    for (std::size_t i = 0; i < channels_.size(); ++i)
+      if (channels_[i].state.messages == 0)
+        std::printf("radar_ndt_node: radar %s sent nothing on %s\n", d_.radars[i].name.c_str(),
+                    d_.radars[i].topic.c_str());
+      else if (!channels_[i].mounting)
+        std::printf("radar_ndt_node: radar %s was never placed: %s\n", d_.radars[i].name.c_str(),
+                    channels_[i].unplaced.empty() ? "no transform arrived" : channels_[i].unplaced.c_str());
+  }
 
  private:
   struct Channel {
     TopicState state;
     std::optional<Eigen::Isometry3d> mounting;
-    std::string frame;  ///< the clouds' frame, for /tf when the description names none
+    std::string frame;     ///< the clouds' frame, for /tf when the description names none
+    std::string unplaced;  ///< why the mounting is not known yet (the tree's answer)
   };
 
   void resetOdometry() {
@@ -152,22 +167,29 @@ class AutomotiveNode : public RadarNode {
     return reference_;
   }
 
-  void onTf(const tf2_msgs::TFMessage& m) {
-    for (const auto& t : m.transforms)
-      for (std::size_t i = 0; i < d_.radars.size(); ++i) {
-        Channel& c = channels_[i];
-        const std::string frame = d_.radars[i].frame.empty() ? c.frame : d_.radars[i].frame;
-        if (c.mounting || frame.empty() || t.header.frame_id != d_.base_frame || t.child_frame_id != frame) continue;
-        Eigen::Quaterniond q(t.transform.rotation.w, t.transform.rotation.x, t.transform.rotation.y,
-                             t.transform.rotation.z);
-        if (!(std::abs(q.norm() - 1.0) < 1e-2)) continue;
-        q.normalize();
-        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-        T.linear() = q.toRotationMatrix();
-        T.translation() << t.transform.translation.x, t.transform.translation.y, t.transform.translation.z;
-        c.mounting = T;
-      }
+  /// A /tf or /tf_static message: its transforms join the tree until every radar is placed.
+  void onTf(const tf2_msgs::TFMessage& m, const char* topic) {
+    if (allPlaced()) return;
+    std::vector<std::string> bad;
+    tree_.add(m, topic, &bad);
+    for (const std::string& b : bad) tf_state_.problem(b);
+    placeRadars();
     drain();
+  }
+
+  bool allPlaced() const {
+    return std::all_of(channels_.begin(), channels_.end(), [](const Channel& c) { return c.mounting.has_value(); });
+  }
+
+  /// Each radar not yet placed whose frame is known (the description's, else its clouds'): its
+  /// mounting from the tree, as the offline reader takes it.
+  void placeRadars() {
+    for (std::size_t i = 0; i < d_.radars.size(); ++i) {
+      Channel& c = channels_[i];
+      const std::string& frame = d_.radars[i].frame.empty() ? c.frame : d_.radars[i].frame;
+      if (c.mounting || frame.empty()) continue;
+      c.mounting = tree_.lookup(d_.base_frame, frame, &c.unplaced);
+    }
   }
 
   /// The cloud's points as the description names its fields; nullopt (counted and said) when it
@@ -201,7 +223,10 @@ class AutomotiveNode : public RadarNode {
   void onCloud(std::size_t i, const sensor_msgs::PointCloud2& msg) {
     const ros::WallTime arrival = ros::WallTime::now();
     Channel& c = channels_[i];
-    if (c.frame.empty()) c.frame = msg.header.frame_id;
+    if (c.frame.empty() && !msg.header.frame_id.empty()) {
+      c.frame = msg.header.frame_id;
+      placeRadars();
+    }
     const std::int64_t t = stampOf(d_.stamps, msg.header.stamp);
     if (c.state.arrived(t)) restart(c.state.last_problem, c.state, t);  // a bag played again
     stream_us_ = std::max(stream_us_, t);
@@ -280,9 +305,20 @@ class AutomotiveNode : public RadarNode {
     ros::WallTime newest;
     for (const auto& c : channels_) newest = std::max(newest, c.state.last_arrival);
     std::vector<diagnostic_msgs::DiagnosticStatus> status;
-    for (const Channel& c : channels_)
-      status.push_back(c.state.status(newest, "silent: no cloud for over a second while the other radars send",
-                                      {{"mounting", c.mounting ? "known" : "waiting for /tf"}}));
+    for (std::size_t i = 0; i < channels_.size(); ++i) {
+      const Channel& c = channels_[i];
+      const bool named = !d_.radars[i].frame.empty() || !c.frame.empty();
+      const std::string mounting = c.mounting           ? "known"
+                                   : !named             ? "waiting for a cloud to name its frame"
+                                   : c.unplaced.empty() ? "waiting for /tf_static or /tf"
+                                                        : c.unplaced;
+      status.push_back(c.state.status(newest,
+                                      c.state.messages == 0
+                                          ? "no cloud yet on " + c.state.topic + " while the other radars send"
+                                          : "silent: no cloud for over a second while the other radars send",
+                                      {{"mounting", mounting}}));
+    }
+    if (!tf_state_.last_problem.empty()) status.push_back(tf_state_.status(ros::WallTime(), ""));
     if (use_gyro_)
       status.push_back(imu_.status(
           newest, "silent: no IMU message for over a second while the radars send; the last yaw rate is held"));
@@ -304,6 +340,8 @@ class AutomotiveNode : public RadarNode {
   EgoVelocity last_valid_;
   bool have_valid_ = false;
   std::vector<Channel> channels_;
+  ros1::MountingTree tree_;  ///< /tf_static and /tf until every radar is placed
+  TopicState tf_state_{"/tf", "tf"};
   TopicState imu_;    ///< the IMU topic's counters (its mounting unused: only the yaw rate is fused)
   TopicState speed_;  ///< the speed topic's
   bool use_gyro_ = false, use_speed_ = false;

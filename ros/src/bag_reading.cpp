@@ -180,10 +180,13 @@ bool MotionTopics::take(const rosbag::MessageInstance& m, StampRule& stamps, std
 
 void MotionTopics::takeTf(const rosbag::MessageInstance& m) {
   const auto tf = m.instantiate<tf2_msgs::TFMessage>();
+  if (m.getTopic() == "/tf" || m.getTopic() == "/tf_static") {
+    std::vector<std::string> bad;
+    tree_.add(*tf, m.getTopic(), &bad);
+    for (const std::string& b : bad) log_.add(m.getTopic() + " (bad transforms)", b);
+  }
   for (const auto& t : tf->transforms) {
     try {
-      if (t.header.frame_id == d_.base_frame && !edges_.count(t.child_frame_id))
-        edges_.emplace(t.child_frame_id, transformToIsometry(t.transform, m.getTopic() + " " + t.child_frame_id));
       if (m.getTopic() == d_.ground_truth_topic && t.header.frame_id == d_.ground_truth_parent &&
           t.child_frame_id == d_.ground_truth_child)
         poses_.emplace_back(microseconds(t.header.stamp), transformToIsometry(t.transform, m.getTopic()));
@@ -206,11 +209,6 @@ void MotionTopics::takePose(const rosbag::MessageInstance& m, StampRule& stamps,
   } catch (const std::invalid_argument& e) {
     log_.add(m.getTopic() + " (bad poses)", m.getTopic() + " at " + seconds(m.getTime()) + ": " + e.what());
   }
-}
-
-const Eigen::Isometry3d* MotionTopics::edge(const std::string& frame) const {
-  const auto it = edges_.find(frame);
-  return it == edges_.end() ? nullptr : &it->second;
 }
 
 namespace {

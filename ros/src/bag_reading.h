@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -18,6 +19,7 @@
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/io/vehicle_signals.h"
+#include "radar_ndt/ros/mounting_tree.h"
 #include "radar_ndt/ros/nuscenes_bag.h"
 
 namespace radar_ndt {
@@ -92,8 +94,11 @@ class MotionTopics {
   std::vector<std::string> topics(const OpenBag& bag) const;
   /// Takes `m` when it is one of them; false otherwise.
   bool take(const rosbag::MessageInstance& m, StampRule& stamps, std::vector<std::string>& problems);
-  /// The transform base frame → `frame`, first seen in /tf_static or /tf; null when none.
-  const Eigen::Isometry3d* edge(const std::string& frame) const;
+  /// The mounting of `frame`: from it into the base frame, through /tf_static and /tf as tf2
+  /// resolves a chain of frames (MountingTree); nullopt, `why` saying what is missing, when none.
+  std::optional<Eigen::Isometry3d> mounting(const std::string& frame, std::string* why) const {
+    return tree_.lookup(d_.base_frame, frame, why);
+  }
   /// The yaw rate and the speed (null without an IMU or speed topic; IoError when a named one has
   /// no finite value), the ground truth in time order, and what was met.
   void finish(std::shared_ptr<const VehicleSignals>& signals, Trajectory& ground_truth,
@@ -107,7 +112,7 @@ class MotionTopics {
 
   const SensorDescription& d_;
   std::string path_;
-  std::map<std::string, Eigen::Isometry3d> edges_;
+  MountingTree tree_;
   std::vector<std::pair<std::int64_t, double>> imu_, speed_;
   std::vector<std::pair<std::int64_t, Eigen::Isometry3d>> poses_;
   std::size_t imu_dropped_ = 0, imu_messages_ = 0, speed_dropped_ = 0;

@@ -132,11 +132,12 @@ void BagReader::finishMountings() {
       throw IoError(s_.path_, d_.source + ": radar " + r.name +
                                   " has no mounting: its messages name no frame and the description neither; give "
                                   "its 'mounting' (x y z roll pitch yaw)");
-    const Eigen::Isometry3d* edge = motion_.edge(frames_[i]);
-    if (!edge)
-      throw IoError(s_.path_, d_.source + ": radar " + r.name + ": no transform " + d_.base_frame + " -> " +
-                                  frames_[i] + " in /tf_static or /tf; give its 'mounting' (x y z roll pitch yaw)");
-    s_.mountings_.push_back(*edge);
+    std::string why;
+    const std::optional<Eigen::Isometry3d> mounting = motion_.mounting(frames_[i], &why);
+    if (!mounting)
+      throw IoError(s_.path_,
+                    d_.source + ": radar " + r.name + ": " + why + "; give its 'mounting' (x y z roll pitch yaw)");
+    s_.mountings_.push_back(*mounting);
   }
 }
 

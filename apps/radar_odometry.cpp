@@ -23,11 +23,12 @@
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/odometry/matcher_registry.h"
 #include "radar_ndt/pipeline/automotive_run.h"
+#include "radar_ndt/pipeline/odometry_run.h"
 #include "radar_ndt/pipeline/scanning_run.h"
 #ifdef RADAR_NDT_WITH_ROS
-#include "radar_ndt/ros/rosbag_scans.h"
-#include "radar_ndt/ros/rosbag_sequence.h"
+#include "radar_ndt/ros/bag_reader.h"
 #endif
 
 using namespace radar_ndt;
@@ -54,7 +55,7 @@ struct Outputs {
 };
 
 /// Writes the run's files, prints its summary (unless JSON) and returns its JSON summary; `report`
-/// gets the metrics when evaluating.
+/// gets the metrics when evaluating (with the run's own prior beside them: evaluateRun).
 template <typename Run>
 json finish(const Run& r, const std::string& name, const Outputs& o, std::optional<EvaluationReport>& report) {
   // A problem of the whole dataset (its can_bus/ folder missing) comes with every scene's run in
@@ -64,27 +65,18 @@ json finish(const Run& r, const std::string& name, const Outputs& o, std::option
     if (said.insert(p).second) pcl::console::print_warn("%s: %s\n", name.c_str(), p.c_str());
   if (!o.out.empty()) writeTrajectory(o.fileFor(o.out, name), r.estimate, parseTrajectoryFormat(o.out_format));
   if (!o.steps.empty()) writeFileAtomically(o.fileFor(o.steps, name), stepsCsv(r));
+  std::optional<RunEvaluation> evaluation;
   if (o.eval) {
-    const PosePairs pairs = associate(r.ground_truth, r.estimate);
-    report = evaluate(pairs, o.metric.empty() ? defaultMetrics(r) : parseMetrics(o.metric));
-    if (!o.plot.empty()) writeEvaluationSvg(o.fileFor(o.plot, name), pairs, *report, name + " (" + r.method + ")");
+    evaluation = evaluateRun(r, o.metric.empty() ? std::vector<Metric>{} : parseMetrics(o.metric));
+    report = evaluation->report;
+    if (!o.plot.empty())
+      writeEvaluationSvg(o.fileFor(o.plot, name), associate(r.ground_truth, r.estimate), *report,
+                         name + " (" + r.method + ")");
   }
-  // Beside the method, its own prior: each step's initial guess judged as its match is.
-  const FrameError prior = o.eval ? priorFrameError(r.steps, r.ground_truth) : FrameError{};
-  const char* prior_label = r.prior.c_str();
-  if (!o.json) {
-    std::cout << summaryText(r);
-    if (report) std::cout << formatTable(*report) << priorText(prior, prior_label);
-  }
+  if (!o.json) std::cout << summaryText(r) << (evaluation ? evaluationText(*evaluation) : "");
   const std::string failure = failureText(r);
   if (!failure.empty()) o.failures->push_back(failure);
-  json out = json::parse(summaryJson(r, report ? &*report : nullptr));
-  if (prior.pairs > 0)
-    out["prior_frame"] = {{"prior", prior_label},
-                          {"trans_err_m", prior.trans_err_m},
-                          {"rot_err_deg", prior.rot_err_deg},
-                          {"pairs", prior.pairs}};
-  return out;
+  return json::parse(evaluation ? summaryJson(r, *evaluation) : summaryJson(r));
 }
 
 /// One JSON object for one run; for several, {"runs": [...], "mean": {"metrics": ...}} under the
@@ -132,135 +124,87 @@ struct RunMaps {
   }
 };
 
-int runAutomotive(const po::variables_map& vm, const Outputs& base) {
-  const AutomotiveRunOptions options = apps::automotiveOptions(vm);
-  const NuScenesDataset dataset = apps::openDataset(vm);
-  const std::vector<const NuScenesScene*> scenes = apps::selectScenes(dataset, vm);
-  Outputs o = base;
-  o.many = scenes.size() > 1;
-  std::vector<json> runs;
-  std::vector<EvaluationReport> reports;
-  auto finishScene = [&](std::size_t i, const AutomotiveRunResult& r) {
-    std::optional<EvaluationReport> report;
-    runs.push_back(finish(r, scenes[i]->name, o, report));
-    if (report) reports.push_back(*report);
-  };
-  RunMaps maps(o, false);
-  if (maps.any() && scenes.size() > 1) throw std::invalid_argument("--map and --map-out take one --scene");
-  if (scenes.size() == 1) {  // one scene: its cycles on the pipeline, with a progress bar
-    finishScene(0, runAutomotiveOdometry(dataset, *scenes[0], options, apps::Progress{o.progress, scenes[0]->name},
-                                         maps.callback()));
-    maps.write(o);
-  } else {  // several: the scenes side by side, reported in order
-    runAutomotiveScenes(dataset, scenes, options, finishScene, apps::Progress{o.progress, "scenes"});
+/// The source the command line names (one scene or every scene, one sequence or several).
+std::vector<RunSource> sourcesOf(const po::variables_map& vm) {
+  auto text = [&](const char* name) { return vm.count(name) ? vm[name].as<std::string>() : std::string(); };
+  const std::string format = vm["format"].as<std::string>();
+  if (format == "nuscenes") {
+    if (!vm.count("dataroot")) throw std::invalid_argument("--format nuscenes needs --dataroot DIR");
+    return {RunSource{format, text("dataroot"), text("scene"), text("version"), ""}};
   }
-  if (o.json) {
-    printJson(runs, reports, "scenes");
-  } else if (reports.size() > 1) {
-    std::printf("mean over %zu scenes:\n", reports.size());
-    std::cout << formatTable(meanReport(reports));
+  if (format == "rosbag") {
+    if (!vm.count("bag")) throw std::invalid_argument("--format rosbag needs --bag FILE");
+    if (!vm.count("sensors")) throw std::invalid_argument("--format rosbag needs --sensors FILE.yaml (or preset:NAME)");
+    return {RunSource{format, text("bag"), "", "", text("sensors")}};
   }
-  return reportFailures(o);
+  std::vector<RunSource> out;
+  for (const std::string& dir : apps::sequenceDirs(vm)) out.push_back(RunSource{format, dir, "", "", ""});
+  return out;
 }
 
-/// The sensor description with the command line's nuScenes-style sequence options applied to it:
-/// the reference radar, the radars used, the range.
-SensorDescription describedSensors(const po::variables_map& vm, const AutomotiveRunOptions& options) {
-  if (!vm.count("sensors")) throw std::invalid_argument("--format rosbag needs --sensors FILE.yaml (or preset:NAME)");
-  SensorDescription d = readSensorDescription(vm["sensors"].as<std::string>());
-  if (!options.sequence.reference_channel.empty()) d.reference = options.sequence.reference_channel;
-  if (!options.sequence.channels.empty()) {
-    std::vector<RadarDescription> kept;
-    for (const std::string& name : options.sequence.channels) {
-      const auto it = std::find_if(d.radars.begin(), d.radars.end(), [&](const auto& r) { return r.name == name; });
-      if (it == d.radars.end()) throw std::invalid_argument("--channels: no radar '" + name + "' in " + d.source);
-      kept.push_back(*it);
-    }
-    d.radars = kept;
-  }
-  if (vm.count("max-range"))
-    for (auto& r : d.radars) r.fields.max_range = options.sequence.filter.max_range;
-  return d;
-}
-
-#ifdef RADAR_NDT_WITH_ROS
-/// A scanning radar's bag: the scanning pipeline, with its options (the description's one radar).
-int runScanningBag(const po::variables_map& vm, const Outputs& o, const SensorDescription& d) {
-  const ScanningRunOptions options = apps::scanningOptions(vm);
-  const ros1::RosbagScanSequence bag(vm["bag"].as<std::string>(), d);
-  if (o.eval && bag.groundTruth().empty())
-    throw std::invalid_argument("--eval: " + bag.name() + " has no ground truth (" +
-                                (d.ground_truth_topic.empty() ? d.source + " names no ground_truth topic"
-                                                              : "no pose on " + d.ground_truth_topic) +
-                                ")");
-  RunMaps maps(o, true);
-  const ScanningRunResult r =
-      runScanningOdometry(bag, options, apps::Progress{o.progress, bag.name()}, maps.callback());
+/// One run: its maps, the run, its files and summary.
+template <typename Result, typename RunIt>
+json runOne(const OdometryRun& run, const Outputs& o, bool keyframe_maps, std::vector<EvaluationReport>& reports,
+            const RunIt& run_it) {
+  std::string why;
+  if (o.eval && !run.hasGroundTruth(&why)) throw std::invalid_argument("--eval: " + why);
+  RunMaps maps(o, keyframe_maps);
+  const Result r = run_it(apps::Progress{o.progress, run.name()}, maps.callback());
   maps.write(o);
   std::optional<EvaluationReport> report;
-  const json run = finish(r, bag.name(), o, report);
-  if (o.json) printJson({run}, {}, "sequences");
-  return reportFailures(o);
+  json out = finish(r, run.name(), o, report);
+  if (report) reports.push_back(*report);
+  return out;
 }
 
-int runRosbag(const po::variables_map& vm, const Outputs& o) {
-  if (!vm.count("bag")) throw std::invalid_argument("--format rosbag needs --bag FILE");
-  if (!vm.count("sensors")) throw std::invalid_argument("--format rosbag needs --sensors FILE.yaml (or preset:NAME)");
-  const SensorDescription described = readSensorDescription(vm["sensors"].as<std::string>());
-  if (!described.radars.empty() && described.radars[0].kind == RadarKind::Scanning)
-    return runScanningBag(vm, o, described);
-  const AutomotiveRunOptions options = apps::automotiveOptions(vm);
-  const ros1::RosbagRadarSequence bag(vm["bag"].as<std::string>(), describedSensors(vm, options));
-  AutomotiveInputs inputs{bag, bag.vehicleSignals(), bag.problems()};
-  if (options.odometry.car.wheels && (!inputs.car || inputs.car->speed.empty()))
-    throw std::invalid_argument("--wheels: " + vm["sensors"].as<std::string>() +
-                                " names no speed topic (docs/ros.md); --imu fuses the gyro");
-  if (options.odometry.car.gyro && (!inputs.car || inputs.car->yaw_rate.empty()))
-    throw std::invalid_argument("--imu: " + vm["sensors"].as<std::string>() + " names no imu topic");
-  if (!options.odometry.car.any()) inputs.car = nullptr;
-  if (o.eval && bag.groundTruthTrajectory().empty())
-    throw std::invalid_argument("--eval: " + bag.sceneName() + " has no ground truth at the cycles' times");
-  const AutomotiveRunResult r =
-      runAutomotiveOdometry(inputs, options, makeMatcher(options.matcher), apps::Progress{o.progress, bag.sceneName()});
-  std::optional<EvaluationReport> report;
-  const json run = finish(r, bag.sceneName(), o, report);
-  if (o.json) printJson({run}, {}, "scenes");
-  return reportFailures(o);
-}
-#else
-int runRosbag(const po::variables_map&, const Outputs&) {
-  throw std::invalid_argument(
-      "--format rosbag: this build has no ROS support (Debian's ROS 1 was not found: bash .ci/deps)");
-}
-#endif
-
-int runScanning(const po::variables_map& vm, const Outputs& base) {
-  const std::vector<std::string> dirs = apps::sequenceDirs(vm);
-  const ScanFormat format = parseEnum<ScanFormat>(vm["format"].as<std::string>());
+/// Every run the command line names, through the library's one entry (OdometryRun): nuScenes
+/// scenes side by side, sequences one after the other.
+int runAll(const po::variables_map& vm, const Outputs& base) {
+  const std::vector<RunSource> sources = sourcesOf(vm);
+  const PipelineKind pipeline = pipelineOf(sources.front());
+  const Settings given =
+      pipeline == PipelineKind::Automotive ? apps::automotiveSettings(vm) : apps::scanningSettings(vm);
+  std::vector<OdometryRun> runs;
+  for (const RunSource& source : sources)
+    for (OdometryRun& r : OdometryRun::openAll(source, given)) runs.push_back(std::move(r));
   Outputs o = base;
-  o.many = dirs.size() > 1;
+  o.many = runs.size() > 1;
   if (o.many && (!o.map.empty() || !o.map_out.empty()))
-    throw std::invalid_argument("--map and --map-out take one --sequence");
-  std::vector<json> runs;
+    throw std::invalid_argument("--map and --map-out take one --scene or --sequence");
+  std::vector<json> summaries;
   std::vector<EvaluationReport> reports;
-  for (const std::string& dir : dirs) {
-    const ScanningSequence sequence(dir, format, apps::scanningOptions(vm).sequence);
-    // The command line over the defaults for this sequence's radar.
-    const ScanningRunOptions options = apps::scanningOptions(vm, defaultScanningOptions(sequence));
-    if (o.eval && !sequence.hasGroundTruth())
-      throw std::invalid_argument(
-          "--eval: " + dir +
-          " has no ground truth (oxford: gt/radar_odometry.csv; boreas: applanix/radar_poses.csv; "
-          "radiate has none)");
-    RunMaps maps(o, true);
-    const ScanningRunResult r =
-        runScanningOdometry(sequence, options, apps::Progress{o.progress, sequence.name()}, maps.callback());
-    maps.write(o);
-    std::optional<EvaluationReport> report;
-    runs.push_back(finish(r, sequence.name(), o, report));
-    if (report) reports.push_back(*report);
+  if (pipeline == PipelineKind::Automotive && runs.size() > 1) {  // scenes side by side, reported in order
+    for (const OdometryRun& r : runs) {
+      std::string why;
+      if (o.eval && !r.hasGroundTruth(&why)) throw std::invalid_argument("--eval: " + why);
+    }
+    runSideBySide(
+        runs,
+        [&](std::size_t i, const AutomotiveRunResult& r) {
+          std::optional<EvaluationReport> report;
+          summaries.push_back(finish(r, runs[i].name(), o, report));
+          if (report) reports.push_back(*report);
+        },
+        apps::Progress{o.progress, "scenes"});
+  } else {
+    for (const OdometryRun& run : runs) {
+      if (pipeline == PipelineKind::Automotive)
+        summaries.push_back(runOne<AutomotiveRunResult>(
+            run, o, false, reports,
+            [&](const auto& progress, const auto& cb) { return run.runAutomotive(progress, cb); }));
+      else
+        summaries.push_back(runOne<ScanningRunResult>(run, o, true, reports, [&](const auto& progress, const auto& cb) {
+          return run.runScanning(progress, cb);
+        }));
+    }
   }
-  if (o.json) printJson(runs, reports, "sequences");
+  const char* list = pipeline == PipelineKind::Automotive ? "scenes" : "sequences";
+  if (o.json) {
+    printJson(summaries, reports, list);
+  } else if (reports.size() > 1) {
+    std::printf("mean over %zu %s:\n", reports.size(), list);
+    std::cout << formatTable(meanReport(reports));
+  }
   return reportFailures(o);
 }
 
@@ -291,35 +235,99 @@ po::options_description odometryOptions() {
      "write the map as a PCD in the first pose's frame: the keyframe scans' points (scanning) or every "
      "cycle's stationary detections (automotive), one point a voxel (one --sequence or --scene)")
     ("map-voxel", po::value<double>()->default_value(0.2), "--map-out: the voxel's side (m); 0: every point")
+    ("show-options", po::bool_switch(),
+     "print the options the run would use (every field by its path: the defaults for its radar, then the options "
+     "given) as JSON, then exit; without a source, the library's defaults")
     ("list-options", "print every pipeline option as a markdown table (the field it sets, its pipeline, meaning "
      "and default), then exit");
   // clang-format on
   return opts;
 }
 
-const char* const kUsage =
-    "Usage: radar_odometry --format nuscenes --dataroot DIR [--scene NAME|all] [--method "
-    "pw-ndt|pcl-ndt|pcl-icp|doppler|rapp-ndt]\n"
-    "                      [--mode cycle-to-map|paper] [--map-cycles M] [--submap N] [--grid G] [--out traj.txt] "
-    "[--eval]\n"
-    "                      [--metric 1m|kitti|frame|ate|all] [--json] [--plot out.svg]\n"
-    "       radar_odometry --format rosbag --bag FILE --sensors FILE.yaml|preset:NAME [the nuscenes options]\n"
-    "       radar_odometry --format oxford|radiate|boreas --sequence DIR... [--method pw-ndt|pcl-ndt|pcl-icp] "
-    "[--grid G]\n"
-    "                      [--threshold T] [--power-shift S] [--points cartesian|polar] [--out traj.txt] [--eval] "
-    "[--json]\n"
-    "                      [--plot out.svg] [--map top.png]\n"
-    "nuscenes: one pose per radar cycle (one sweep of every radar, clocked by the reference radar), the\n"
-    "vehicle frame at the reference sweep's timestamp; each cycle matched to a local map of the M cycles before it\n"
-    "from the Doppler ego-motion and fused with it (paper mode: submap of N cycles to the last submap, not fused).\n"
-    "Unreadable sweeps are reported and left out of their cycle.\n"
-    "oxford|radiate|boreas: one pose per scan, the vehicle at the scan's timestamp (oxford: the first azimuth's;\n"
-    "boreas: the middle one's, as the dataset names its scans); each scan\n"
-    "motion-compensated and matched to the last keyframe from a constant-velocity guess, failures retried with\n"
-    "the grid enlarged, then with s halved. Unreadable scans are reported and bridged with the motion model;\n"
-    "bad index lines are reported and left out.\n"
-    "A run whose steps were mostly not matched (too few points, fallbacks, unreadable files) says so in its\n"
-    "last line and exits with code 1. Every option: docs/apps.md.";
+/// The methods the registry of matchers holds, for the usage text: automotive ones, or the ones a
+/// scanning radar can run.
+std::string methodList(bool scanning) {
+  std::string out;
+  for (const std::string& name : matcherNames())
+    if (!scanning || !findMatcher(name).uses.automotiveOnly()) out += (out.empty() ? "" : "|") + name;
+  return out;
+}
+
+std::string usage() {
+  return "Usage: radar_odometry --format nuscenes --dataroot DIR [--scene NAME|all] [--method " + methodList(false) +
+         "]\n"
+         "                      [--mode cycle-to-map|paper] [--map-cycles M] [--submap N] [--grid G] [--imu] "
+         "[--wheels]\n"
+         "                      [--out traj.txt] [--eval] [--metric 1m|kitti|frame|ate|all] [--json] [--plot out.svg]\n"
+         "       radar_odometry --format rosbag --bag FILE --sensors FILE.yaml|preset:NAME [the options of its radar's "
+         "pipeline]\n"
+         "       radar_odometry --format oxford|radiate|boreas --sequence DIR... [--method " +
+         methodList(true) +
+         "] [--grid G]\n"
+         "                      [--threshold T] [--power-shift S] [--points cartesian|polar] [--imu] [--out traj.txt]\n"
+         "                      [--eval] [--json] [--plot out.svg] [--map top.png]\n"
+         "       radar_odometry --format F [a source] [options] --show-options   (the options a run would use, as "
+         "JSON)\n"
+         "nuscenes: one pose per radar cycle (one sweep of every radar, clocked by the reference radar), the\n"
+         "vehicle frame at the reference sweep's timestamp; each cycle matched to a local map of the M cycles before "
+         "it\n"
+         "from the Doppler ego-motion and fused with it (paper mode: submap of N cycles to the last submap, not "
+         "fused).\n"
+         "Unreadable sweeps are reported and left out of their cycle.\n"
+         "oxford|radiate|boreas: one pose per scan, the vehicle at the scan's timestamp (oxford: the first azimuth's;\n"
+         "boreas: the middle one's, as the dataset names its scans); each scan\n"
+         "motion-compensated and matched to the last keyframe from a constant-velocity guess, failures retried with\n"
+         "the grid enlarged, then with s halved. Unreadable scans are reported and bridged with the motion model;\n"
+         "bad index lines are reported and left out.\n"
+         "A run whose steps were mostly not matched (too few points, fallbacks, unreadable files) says so in its\n"
+         "last line and exits with code 1. Every option: docs/apps.md.";
+}
+
+nlohmann::ordered_json toJson(const FieldValue& v) {
+  switch (v.kind()) {
+    case FieldValue::Kind::Bool: return v.boolean();
+    case FieldValue::Kind::Integer: return v.integer();
+    case FieldValue::Kind::Real: return v.real();
+    case FieldValue::Kind::Text: return v.text();
+    default: {
+      nlohmann::ordered_json list = nlohmann::ordered_json::array();
+      for (const FieldValue& item : v.list()) list.push_back(toJson(item));
+      return list;
+    }
+  }
+}
+
+/// --show-options: the options a run would use, every field by its path, as JSON. With a source,
+/// opened (the defaults for its radar, a recording's pipeline); without, the library's defaults.
+int showOptions(const po::variables_map& vm) {
+  const std::string format = vm["format"].as<std::string>();
+  const bool has_source = vm.count("dataroot") || vm.count("sequence") || vm.count("bag");
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();  // in the tables' order
+  auto add = [&out](const auto& options) {
+    for (const auto& [path, value] : fieldValues(options)) out[path] = toJson(value);
+  };
+  if (has_source) {
+    RunSource source = sourcesOf(vm).front();
+    const PipelineKind pipeline = pipelineOf(source);
+    if (pipeline == PipelineKind::Automotive && source.format == "nuscenes" &&
+        (source.scene == "all" || source.scene.empty()))
+      source.scene = NuScenesDataset(source.path, source.version).scenes().at(0).name;
+    const OdometryRun run(
+        source, pipeline == PipelineKind::Automotive ? apps::automotiveSettings(vm) : apps::scanningSettings(vm));
+    if (pipeline == PipelineKind::Automotive)
+      add(run.automotiveOptions());
+    else
+      add(run.scanningOptions());
+  } else if (format == "rosbag") {
+    throw std::invalid_argument("--show-options with --format rosbag needs --bag and --sensors");
+  } else if (apps::pipelineOf(format) == apps::Pipeline::Automotive) {
+    add(automotiveRunOptions(apps::automotiveSettings(vm)));
+  } else {
+    add(scanningRunOptions(apps::scanningSettings(vm), format));
+  }
+  std::cout << out.dump(1) << std::endl;
+  return 0;
+}
 
 }  // namespace
 
@@ -330,9 +338,12 @@ int main(int argc, char** argv) {
   }
   const po::options_description opts = odometryOptions();
   po::variables_map vm;
-  const int rc = apps::parseCommandLine(argc, argv, opts, kUsage, vm);
+  const int rc = apps::parseCommandLine(argc, argv, opts, usage(), vm);
   if (rc >= 0) return rc;
 
+#ifdef RADAR_NDT_WITH_ROS
+  ros1::registerBagReader();
+#endif
   return apps::runGuarded("radar_odometry", [&]() {
     Outputs o;
     auto text = [&](const char* name) { return vm.count(name) ? vm[name].as<std::string>() : std::string(); };
@@ -350,8 +361,7 @@ int main(int argc, char** argv) {
     parseTrajectoryFormat(o.out_format);  // a bad value fails before the run
     if (!o.metric.empty()) parseMetrics(o.metric);
     if (!(o.map_voxel >= 0)) throw std::invalid_argument("--map-voxel must be >= 0 (m)");
-    if (vm["format"].as<std::string>() == "rosbag") return runRosbag(vm, o);
-    return apps::pipelineOf(vm["format"].as<std::string>()) == apps::Pipeline::Automotive ? runAutomotive(vm, o)
-                                                                                          : runScanning(vm, o);
+    if (vm["show-options"].as<bool>()) return showOptions(vm);
+    return runAll(vm, o);
   });
 }

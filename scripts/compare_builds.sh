@@ -16,12 +16,16 @@
 #     it existed) as JSON with the run-time columns removed (they are wall-clock timings: the
 #     per-cycle and per-stage milliseconds);
 #  4. `radar_sim` on the first 400 scans from pose 1000 of 2019-01-16-13-42-28 (seed 1) and
-#     `radar_odometry --format oxford --out` on that sequence for ours, PCL's NDT and PCL's ICP.
+#     `radar_odometry --format oxford --out` on that sequence for ours, PCL's NDT and PCL's ICP;
+#  5. the car's sensors (`--imu --wheels`, `wheel-gyro`), a scene's and the real Oxford scans'
+#     summary JSON and steps CSV without their timings, the real Oxford and RADIATE scans, a
+#     simulated Boreas drive with its gyro (`--imu`), and, in builds with ROS, bags: a scene's
+#     (`--imu`), the real TI bag's and the real Oxford scans' written as a bag.
 # Exit code 0 when every file is identical, 1 otherwise (each difference is listed).
 set -euo pipefail
 
 if [ $# -lt 1 ] || [ "$1" = "-h" ] || [ "$1" = "--help" ]; then
-  sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'
   exit 2
 fi
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -81,6 +85,34 @@ run_rev() {
     "$bin/radar_odometry" --format oxford --sequence "$seq" --method "$m" --out "$out/oxford_$m.txt" -q >"$out/oxford_$m.log"
   done
 
+  echo "[$id] the car's sensors, summaries, bags and real scans" >&2
+  local nus=$data/nuscenes-mini-radar
+  "$bin/radar_odometry" --format nuscenes --dataroot "$nus" --scene all --method pw-ndt --imu --wheels \
+    --out "$out/car_pw-ndt_imu_wheels.txt" -q >"$out/car_imu_wheels.log"
+  "$bin/radar_odometry" --format nuscenes --dataroot "$nus" --scene all --method wheel-gyro \
+    --out "$out/car_wheel-gyro.txt" -q >"$out/car_wheel_gyro.log"
+  "$bin/radar_odometry" --format nuscenes --dataroot "$nus" --scene scene-0103 --eval --metric all --json \
+    --steps "$out/steps_nuscenes.raw.csv" -q >"$out/summary_nuscenes.raw.json"
+  "$bin/radar_odometry" --format oxford --sequence "$data/oxford-radar-real" --eval --metric all --json \
+    --steps "$out/steps_oxford_real.raw.csv" --out "$out/oxford_real.txt" -q >"$out/summary_oxford_real.raw.json"
+  "$bin/radar_odometry" --format radiate --sequence "$data/radiate-tiny-foggy" --out "$out/radiate_real.txt" -q \
+    >"$out/radiate_real.log"
+  if [ -x "$bin/radar_nuscenes_to_bag" ]; then
+    "$bin/radar_nuscenes_to_bag" --dataroot "$nus" --scene scene-0103 --out "$bld/bags" >"$out/to_bag.log"
+    "$bin/radar_odometry" --format rosbag --bag "$bld/bags/scene-0103.bag" --sensors preset:nuscenes_ars408 --imu \
+      --out "$out/rosbag_scene-0103_imu.txt" -q >"$out/rosbag.log"
+    "$bin/radar_odometry" --format rosbag --bag "$data/ros-rio-ti-mmwave/ti_mmwave_rospkg_demo.bag" \
+      --sensors preset:ti_iwr6843_rio --out "$out/rosbag_ti.txt" -q >"$out/rosbag_ti.log" || true
+    "$bin/radar_scans_to_bag" --format oxford --sequence "$data/oxford-radar-real" --out "$bld/bags/oxford.bag" \
+      >"$out/scans_to_bag.log"
+    "$bin/radar_odometry" --format rosbag --bag "$bld/bags/oxford.bag" --sensors preset:navtech_oxford \
+      --out "$out/rosbag_oxford.txt" -q >"$out/rosbag_oxford.log"
+  fi
+  rm -rf "$bld/boreas_seq"
+  "$bin/radar_sim" --layout boreas --imu navigation --start 80 --frames 60 --out "$bld/boreas_seq" -q >"$out/boreas_sim.log"
+  "$bin/radar_odometry" --format boreas --sequence "$bld/boreas_seq" --imu --out "$out/boreas_sim_imu.txt" -q \
+    >"$out/boreas_imu.log"
+
   echo "[$id] paper tables" >&2
   local tables
   if [ -x "$bin/radar_paper_tables" ]; then tables=("$bin/radar_paper_tables"); else tables=("$bin/radar_odometry" --table); fi
@@ -107,6 +139,28 @@ print(json.dumps(strip(doc), indent=1, sort_keys=True))
 PY
 }
 
+# A run's summary or steps without wall-clock timings (keys or columns named *_ms, wall_s, ...):
+# strip_timings RAW > OUT.
+strip_timings() {
+  python3 - "$1" <<'PY'
+import csv, io, json, re, sys
+timed = re.compile(r"(^|_)ms($|_)|wall_s|per_second|real_time|latency")
+text = open(sys.argv[1]).read()
+if sys.argv[1].endswith(".csv"):
+    rows = list(csv.reader(io.StringIO(text)))
+    keep = [i for i, h in enumerate(rows[0]) if not timed.search(h)] if rows else []
+    print("\n".join(",".join(r[i] for i in keep) for r in rows))
+else:
+    def strip(x):
+        if isinstance(x, dict):
+            return {k: strip(v) for k, v in x.items() if not timed.search(k)}
+        if isinstance(x, list):
+            return [strip(v) for v in x]
+        return x
+    print(json.dumps(strip(json.loads(text)), indent=1, sort_keys=True))
+PY
+}
+
 base=$(export_rev "$1")
 head=$(export_rev "${2:-HEAD}")
 run_rev "$base"
@@ -114,13 +168,18 @@ run_rev "$head"
 
 for id in "$base" "$head"; do
   for t in nuscenes oxford; do strip_table "$work/out-$id/table_$t.raw.json" >"$work/out-$id/table_$t.json"; done
+  for f in summary_nuscenes.raw.json summary_oxford_real.raw.json steps_nuscenes.raw.csv steps_oxford_real.raw.csv; do
+    strip_timings "$work/out-$id/$f" >"$work/out-$id/${f/.raw/}"
+  done
 done
 
 status=0
 compared=0
 for f in demo_sequences.sha256 scanning_traj.txt automotive_traj.txt oxford_sequence.sha256 \
          oxford_pw-ndt.txt oxford_pcl-ndt.txt oxford_pcl-icp.txt table_nuscenes.json table_oxford.json \
-         $(cd "$work/out-$base" && ls nuscenes_*.txt); do
+         summary_nuscenes.json summary_oxford_real.json \
+         steps_nuscenes.csv steps_oxford_real.csv oxford_real.txt radiate_real.txt boreas_sim_imu.txt \
+         $(cd "$work/out-$base" && ls nuscenes_*.txt car_*.txt rosbag_*.txt 2>/dev/null); do
   compared=$((compared + 1))
   if cmp -s "$work/out-$base/$f" "$work/out-$head/$f"; then
     echo "identical  $f"

@@ -19,7 +19,9 @@
 
 #include "node/node_common.h"
 #include "radar_ndt/evaluation/point_map.h"
+#include "radar_ndt/evaluation/run_report.h"
 #include "radar_ndt/pipeline/automotive_run.h"
+#include "radar_ndt/pipeline/odometry_run.h"
 #include "radar_ndt/ros/live_cycles.h"
 #include "radar_ndt/ros/live_vehicle_signals.h"
 #include "radar_ndt/ros/mounting_tree.h"
@@ -32,13 +34,14 @@ namespace {
 class AutomotiveNode : public RadarNode {
  public:
   AutomotiveNode(ros::NodeHandle& nh, ros::NodeHandle& pn, const SensorDescription& d) : d_(d), pub_(nh, pn) {
-    options_ = automotiveRunOptions(nodeSettings(pn));
+    const Settings given = nodeSettings(pn);
+    options_ = automotiveRunOptions(given);
+    d_ = describedSensors(d_, options_, given);  // the radars the settings choose, as offline
     double period = 0;
     pn.param("cycle_period", period, 0.0);
     period_us_ = static_cast<std::int64_t>(period * 1e6 + 0.5);
     pn.param("flush_after", flush_after_, 0.5);
     pn.param<std::string>("odom_frame", odom_frame_, "odom");
-    front_end_ = std::make_unique<AutomotiveFrontEnd>(options_.front_end);
     use_gyro_ = options_.odometry.car.gyro;
     use_speed_ = options_.odometry.car.wheels;
     if (use_gyro_ && d_.imu_topic.empty())
@@ -76,6 +79,7 @@ class AutomotiveNode : public RadarNode {
   }
 
   void report() const override {
+    std::printf("%s", summaryText(stream_->result()).c_str());  // as radar_odometry prints a run's
     timing_.report(cycles_);
     for (std::size_t i = 0; i < channels_.size(); ++i)
       if (channels_[i].state.messages == 0)
@@ -95,9 +99,7 @@ class AutomotiveNode : public RadarNode {
   };
 
   void resetOdometry() {
-    odometry_ = std::make_unique<AutomotiveOdometry>(options_.odometry, makeMatcher(options_.matcher));
-    if (usesCar()) odometry_->setVehicleSignals(car_.signals());
-    have_valid_ = false;
+    stream_ = std::make_unique<AutomotiveStream>(options_, usesCar() ? car_.signals() : nullptr, "radar_ndt_node");
   }
 
   /// The stream went back in time (a bag played again) on `from`, at `t`: the old stream's cycles
@@ -277,27 +279,25 @@ class AutomotiveNode : public RadarNode {
     pending_.clear();
   }
 
+  /// One cycle through the offline run's step (AutomotiveStream), published.
   void process(RadarCycle& cycle) {
     const double cpu0 = cpuSeconds();
+    const std::int64_t t = cycle.timestamp_us;
     for (RadarSweepData& s : cycle.sweeps) s.sensor_to_vehicle = *channels_[s.sensor_id].mounting;
-    ProcessedCycle processed = front_end_->process(cycle);
-    if (!processed.ego.valid && have_valid_) processed = front_end_->process(cycle, &last_valid_);
-    if (processed.ego.valid) {
-      last_valid_ = processed.ego;
-      have_valid_ = true;
-    }
-    const OdometryStep& step = odometry_->add(processed);
-    if (usesCar()) car_.used(cycle.timestamp_us + offset_us_);
-    map_.add(*processed.cloud, step.pose);
-    pub_.pose(step, cycle.timestamp_us, odom_frame_, d_.base_frame);
-    if (pub_.wantsLocalMap()) pub_.localMap(*odometry_->localMap().cloud(), cycle.timestamp_us, d_.base_frame);
-    if (pub_.wantsMap() && cycles_ % 10 == 0) pub_.map(map_.cloud(), cycle.timestamp_us, odom_frame_);
+    const AutomotiveStream::Added a = stream_->add(std::move(cycle));
+    for (const std::string& p : a.problems) ROS_WARN_STREAM_THROTTLE(1.0, "radar_ndt_node: " << p);
+    const OdometryStep& step = a.step;
+    if (usesCar()) car_.used(t + offset_us_);
+    map_.add(*a.cloud, step.pose);
+    pub_.pose(step, t, odom_frame_, d_.base_frame);
+    if (pub_.wantsLocalMap()) pub_.localMap(*stream_->odometry().localMap().cloud(), t, d_.base_frame);
+    if (pub_.wantsMap() && cycles_ % 10 == 0) pub_.map(map_.cloud(), t, odom_frame_);
     ++cycles_;
     timing_.cpu_s.push_back(cpuSeconds() - cpu0);
-    const auto a = arrival_.find(cycle.timestamp_us);
-    if (a != arrival_.end()) {
-      timing_.latency_s.push_back((ros::WallTime::now() - a->second).toSec());
-      arrival_.erase(arrival_.begin(), std::next(a));
+    const auto arrived = arrival_.find(t);
+    if (arrived != arrival_.end()) {
+      timing_.latency_s.push_back((ros::WallTime::now() - arrived->second).toSec());
+      arrival_.erase(arrival_.begin(), std::next(arrived));
     }
   }
 
@@ -335,10 +335,7 @@ class AutomotiveNode : public RadarNode {
   std::int64_t period_us_ = 0;
   double flush_after_ = 0.5;
   std::string odom_frame_;
-  std::unique_ptr<AutomotiveFrontEnd> front_end_;
-  std::unique_ptr<AutomotiveOdometry> odometry_;
-  EgoVelocity last_valid_;
-  bool have_valid_ = false;
+  std::unique_ptr<AutomotiveStream> stream_;  ///< the offline run's step, a cycle at a time
   std::vector<Channel> channels_;
   ros1::MountingTree tree_;  ///< /tf_static and /tf until every radar is placed
   TopicState tf_state_{"/tf", "tf"};

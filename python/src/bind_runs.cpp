@@ -11,11 +11,11 @@
 #include "radar_ndt/evaluation/run_report.h"
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/pipeline/automotive_run.h"
-#ifdef RADAR_NDT_WITH_ROS
-#include "radar_ndt/ros/rosbag_scans.h"
-#include "radar_ndt/ros/rosbag_sequence.h"
-#endif
+#include "radar_ndt/pipeline/odometry_run.h"
 #include "radar_ndt/pipeline/scanning_run.h"
+#ifdef RADAR_NDT_WITH_ROS
+#include "radar_ndt/ros/bag_reader.h"
+#endif
 
 namespace radar_ndt {
 namespace python {
@@ -27,33 +27,52 @@ py::object jsonToPython(const std::string& text) {
 }
 
 /// The run's summary as radar_odometry --json gives it: summaryJson, and when `metrics` names any
-/// ("default": the app's default for the pipeline) and the run has ground truth, the metrics and
-/// the frame error of the method's own prior beside them.
+/// ("default": the pipeline's) and the run has ground truth, the metrics with the method's own
+/// prior beside them (evaluateRun: the library's one summary).
 template <typename Result>
 py::dict summaryOf(const Result& r, const std::string& metrics) {
   if (metrics.empty() || r.ground_truth.empty()) return py::reinterpret_borrow<py::dict>(jsonToPython(summaryJson(r)));
-  const EvaluationReport report =
-      evaluate(associate(r.ground_truth, r.estimate), metrics == "default" ? defaultMetrics(r) : parseMetrics(metrics));
-  py::dict out = py::reinterpret_borrow<py::dict>(jsonToPython(summaryJson(r, &report)));
-  const FrameError prior = priorFrameError(r.steps, r.ground_truth);
-  if (prior.pairs > 0) {
-    py::dict p;
-    p["prior"] = std::is_same_v<Result, ScanningRunResult> ? "constant velocity" : "Doppler ego-motion";
-    p["trans_err_m"] = prior.trans_err_m;
-    p["rot_err_deg"] = prior.rot_err_deg;
-    p["pairs"] = prior.pairs;
-    out["prior_frame"] = p;
-  }
-  return out;
+  const RunEvaluation e = evaluateRun(r, metrics == "default" ? std::vector<Metric>{} : parseMetrics(metrics));
+  return py::reinterpret_borrow<py::dict>(jsonToPython(summaryJson(r, e)));
 }
 
-/// `base` with the keywords applied, `method` (a shortcut for matcher.method) last, validated: the
-/// options run_scanning runs with, and what scanning_options shows.
-ScanningRunOptions scanningKeywords(const ScanningRunOptions& base, const py::kwargs& kw) {
-  ScanningRunOptions o = withKeywords(base, without(kw, {"method"}), "ScanningRunOptions", "method");
-  if (kw.contains("method")) o.matcher.method = keywordAs<std::string>(kw["method"], "method");
-  o.validate();
-  return o;
+/// The run `source` and `kw` ask for, through the library's one entry (OdometryRun), opened
+/// without the GIL.
+std::unique_ptr<OdometryRun> openSource(const RunSource& source, const py::kwargs& kw) {
+  const Settings given = settingsFromKeywords(kw);
+  py::gil_scoped_release release;
+  return std::make_unique<OdometryRun>(source, given);
+}
+
+/// The run to its end without the GIL.
+AutomotiveRunResult runAutomotive(const OdometryRun& run) {
+  py::gil_scoped_release release;
+  return run.runAutomotive();
+}
+ScanningRunResult runScanning(const OdometryRun& run) {
+  py::gil_scoped_release release;
+  return run.runScanning();
+}
+
+/// A {path: value} dict of every field (what radar_odometry --show-options prints).
+template <typename R>
+py::dict valuesOf(const R& options) {
+  std::function<py::object(const FieldValue&)> conv = [&conv](const FieldValue& v) -> py::object {
+    switch (v.kind()) {
+      case FieldValue::Kind::Bool: return py::bool_(v.boolean());
+      case FieldValue::Kind::Integer: return py::int_(v.integer());
+      case FieldValue::Kind::Real: return py::float_(v.real());
+      case FieldValue::Kind::Text: return py::str(v.text());
+      default: {
+        py::list items;
+        for (const FieldValue& item : v.list()) items.append(conv(item));
+        return std::move(items);
+      }
+    }
+  };
+  py::dict out;
+  for (const auto& [path, value] : fieldValues(options)) out[py::str(path)] = conv(value);
+  return out;
 }
 
 /// The parts of a run result both pipelines have, and the summary.
@@ -110,33 +129,90 @@ void bindRunResults(py::module_& m) {
       .def_readonly("ego_speed", &AutomotiveRunResult::ego_speed);
 }
 
+/// The field table of R, each field as a dict (what option_fields returns).
+template <typename R>
+py::list fieldsOf() {
+  auto kind = [](FieldValue::Kind k) {
+    switch (k) {
+      case FieldValue::Kind::Bool: return "bool";
+      case FieldValue::Kind::Integer: return "int";
+      case FieldValue::Kind::Real: return "float";
+      case FieldValue::Kind::Text: return "str";
+      default: return "list";
+    }
+  };
+  py::list out;
+  for (const FieldEntry<R>& e : fieldEntries<R>()) {
+    py::dict d;
+    d["path"] = e.path;
+    d["kind"] = kind(e.kind);
+    if (e.kind == FieldValue::Kind::List) d["item_kind"] = kind(e.item_kind);
+    d["help"] = std::string(e.field.help);
+    d["unit"] = std::string(e.field.unit_text);
+    d["low"] = e.field.bounds.lo;
+    d["high"] = e.field.bounds.hi;
+    d["low_open"] = e.field.bounds.lo_open;
+    d["high_open"] = e.field.bounds.hi_open;
+    d["names"] = e.names;
+    d["layout"] = e.scope;
+    d["option"] = e.field.cli_name ? py::object(py::str(e.field.cli_name)) : py::none();
+    d["switch_sets"] = e.field.off_switch_help ? py::object(py::bool_(e.field.switch_sets)) : py::none();
+    d["spelled"] = e.field.true_name ? py::object(py::make_tuple(e.field.false_name, e.field.true_name)) : py::none();
+    out.append(d);
+  }
+  return out;
+}
+
 void bindRunFunctions(py::module_& m) {
+  m.def(
+      "option_fields",
+      [](const std::string& pipeline) {
+        if (pipeline == "automotive") return fieldsOf<AutomotiveRunOptions>();
+        if (pipeline == "scanning") return fieldsOf<ScanningRunOptions>();
+        throw std::invalid_argument("option_fields: 'automotive' or 'scanning', not '" + pipeline + "'");
+      },
+      py::arg("pipeline"),
+      "The run options' field table of a pipeline ('automotive' or 'scanning'): for each field its path (the "
+      "keyword's, nested dicts for the dots), kind (bool, int, float, str, list), help, unit, bounds (low, high, "
+      "low_open, high_open), an enumeration's names, the dataset layout it applies to alone, the command line's "
+      "option (switch_sets: what its switch sets; spelled: a flag's two names), as radar_odometry --list-options "
+      "lists them.");
   m.def(
       "scanning_options",
       [](const ScanningSequence& sequence, const py::kwargs& kw) {
-        return scanningKeywords(defaultScanningOptions(sequence), kw);
+        return scanningRunOptions(settingsFromKeywords(kw), sequence.formatName(), defaultScanningOptions(sequence));
       },
       py::arg("sequence"),
       "The options run_scanning runs `sequence` with: the defaults for its radar (defaultScanningOptions), "
       "then the keywords.");
   m.def(
+      "run_options",
+      [](const std::string& format, const py::kwargs& kw) -> py::object {
+        const Settings given = settingsFromKeywords(kw);
+        if (format == "rosbag")
+          throw std::invalid_argument(
+              "run_options: a recording's pipeline is its description's: give nuscenes or "
+              "a scanning layout");
+        if (pipelineOf(RunSource{format, "", "", "", ""}) == PipelineKind::Automotive)
+          return py::cast(automotiveRunOptions(given));
+        return py::cast(scanningRunOptions(given, format));
+      },
+      py::arg("format"),
+      "The options a run of `format` (nuscenes, oxford, radiate, boreas) takes from the keywords, over the "
+      "library's defaults (a Boreas sequence with chirp types has its own: scanning_options): an "
+      "AutomotiveRunOptions or a ScanningRunOptions, as radar_odometry --format FORMAT --show-options gives them.");
+  m.def(
+      "option_values", [](const AutomotiveRunOptions& o) { return valuesOf(o); }, py::arg("options"),
+      "Every field of the options by its path, {path: value}: what radar_odometry --show-options prints.");
+  m.def(
+      "option_values", [](const ScanningRunOptions& o) { return valuesOf(o); }, py::arg("options"));
+  m.def(
       "run_scanning",
-      [](const std::filesystem::path& path_arg, const std::string& format, const py::kwargs& kw) {
-        const std::string path = path_arg.string();
-        const ScanFormat f = parseEnum<ScanFormat>(format);
-        // The sequence is read with the keywords' reader settings, the run uses its radar's defaults.
-        const auto seq_options =
-            withKeywords(ScanningRunOptions{}, without(kw, {"method"}), "ScanningRunOptions", "method").sequence;
-        ScanningRunOptions defaults;
-        std::unique_ptr<ScanningSequence> sequence;
-        {
-          py::gil_scoped_release release;
-          sequence = std::make_unique<ScanningSequence>(path, f, seq_options);
-          defaults = defaultScanningOptions(*sequence);
-        }
-        const ScanningRunOptions o = scanningKeywords(defaults, kw);
-        py::gil_scoped_release release;
-        return runScanningOdometry(*sequence, o);
+      [](const std::filesystem::path& path, const std::string& format, const py::kwargs& kw) {
+        if (format == "rosbag" || format == "nuscenes" ||
+            !(format == "oxford" || format == "radiate" || format == "boreas"))
+          throw std::invalid_argument("format '" + format + "' is not a scanning layout (oxford, radiate, boreas)");
+        return runScanning(*openSource(RunSource{format, path.string(), "", "", ""}, kw));
       },
       py::arg("path"), py::arg("format") = "oxford",
       "Runs the scanning odometry over a sequence directory as radar_odometry --format FORMAT --sequence PATH "
@@ -145,17 +221,9 @@ void bindRunFunctions(py::module_& m) {
       "ScanningRun. The GIL is released while it runs.");
   m.def(
       "run_automotive",
-      [](const std::filesystem::path& dataroot_arg, const std::string& scene, const std::string& version,
+      [](const std::filesystem::path& dataroot, const std::string& scene, const std::string& version,
          const py::kwargs& kw) {
-        const std::string dataroot = dataroot_arg.string();
-        const std::string method = kw.contains("method") ? keywordAs<std::string>(kw["method"], "method") : "pw-ndt";
-        AutomotiveRunOptions o =
-            withKeywords(AutomotiveRunOptions{}, without(kw, {"method"}), "AutomotiveRunOptions", "method, version");
-        o = withMethod(o, method);
-        o.validate();
-        py::gil_scoped_release release;
-        const NuScenesDataset dataset(dataroot, version);
-        return runAutomotiveOdometry(dataset, dataset.scene(scene), o);
+        return runAutomotive(*openSource(RunSource{"nuscenes", dataroot.string(), scene, version, ""}, kw));
       },
       py::arg("dataroot"), py::arg("scene"), py::arg("version") = "",
       "Runs the automotive odometry over one nuScenes scene as radar_odometry --format nuscenes --dataroot "
@@ -165,52 +233,22 @@ void bindRunFunctions(py::module_& m) {
 
 /// run_rosbag: a ROS 1 bag through a sensor description (a build without ROS says so when called).
 void bindRosbagRun(py::module_& m) {
+#ifdef RADAR_NDT_WITH_ROS
+  ros1::registerBagReader();
+#endif
   m.def(
       "run_rosbag",
-      [](const std::filesystem::path& bag_arg, const std::string& sensors, const py::kwargs& kw) -> py::object {
-#ifdef RADAR_NDT_WITH_ROS
-        const std::string bag_path = bag_arg.string();
-        const SensorDescription d = readSensorDescription(sensors);
-        if (!d.radars.empty() && d.radars[0].kind == RadarKind::Scanning) {  // polar images: the scanning run
-          const ScanningRunOptions o = scanningKeywords(ScanningRunOptions{}, kw);
-          ScanningRunResult r;
-          {
-            py::gil_scoped_release release;
-            const ros1::RosbagScanSequence bag(bag_path, d);
-            r = runScanningOdometry(bag, o);
-          }
-          return py::cast(std::move(r));
-        }
-        const std::string method = kw.contains("method") ? keywordAs<std::string>(kw["method"], "method") : "pw-ndt";
-        AutomotiveRunOptions o =
-            withKeywords(AutomotiveRunOptions{}, without(kw, {"method"}), "AutomotiveRunOptions", "method");
-        o = withMethod(o, method);
-        o.validate();
-        AutomotiveRunResult r;
-        {
-          py::gil_scoped_release release;
-          const ros1::RosbagRadarSequence bag(bag_path, d);
-          const auto car = bag.vehicleSignals();
-          if (o.odometry.car.wheels && (!car || car->speed.empty()))
-            throw std::invalid_argument("odometry.car.wheels: " + sensors + " names no speed topic");
-          if (o.odometry.car.gyro && (!car || car->yaw_rate.empty()))
-            throw std::invalid_argument("odometry.car.gyro: " + sensors + " names no imu topic");
-          AutomotiveInputs inputs{bag, o.odometry.car.any() ? bag.vehicleSignals() : nullptr, bag.problems()};
-          r = runAutomotiveOdometry(inputs, o, makeMatcher(o.matcher));
-        }
-        return py::cast(std::move(r));
-#else
-        (void)bag_arg;
-        (void)sensors;
-        (void)kw;
-        throw std::runtime_error("run_rosbag: this build has no ROS support (Debian's ROS 1 was not found)");
-#endif
+      [](const std::filesystem::path& bag, const std::string& sensors, const py::kwargs& kw) -> py::object {
+        const auto run = openSource(RunSource{"rosbag", bag.string(), "", "", sensors}, kw);
+        if (run->pipeline() == PipelineKind::Automotive) return py::cast(runAutomotive(*run));
+        return py::cast(runScanning(*run));
       },
       py::arg("bag"), py::arg("sensors"),
       "Runs the odometry over a ROS 1 bag as radar_odometry --format rosbag --bag BAG --sensors SENSORS does "
       "(a sensor description file, or 'preset:NAME'). Point-cloud radars: the automotive odometry, keywords "
-      "as run_automotive's, an AutomotiveRun; a scanning radar's polar images: the scanning odometry, "
-      "keywords as run_scanning's, a ScanningRun. The GIL is released while it runs.");
+      "as run_automotive's (sequence={'channels': [...], 'reference_channel': ..., 'filter': {'max_range': ...}} "
+      "choose the radars), an AutomotiveRun; a scanning radar's polar images: the scanning odometry, keywords "
+      "as run_scanning's, a ScanningRun. The GIL is released while it runs.");
 }
 
 void bindRuns(py::module_& m) {

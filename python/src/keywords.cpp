@@ -48,6 +48,45 @@ void applyKeywords(const py::handle& target, const py::dict& kw, const std::stri
   }
 }
 
+namespace {
+
+FieldValue valueOf(const py::handle& v, const std::string& path) {
+  if (py::isinstance<py::bool_>(v)) return FieldValue(v.cast<bool>());
+  if (py::isinstance<py::int_>(v) ||
+      (py::hasattr(v, "__index__") && !py::isinstance<py::float_>(v) && !py::isinstance<py::str>(v)))
+    return FieldValue(v.cast<long long>());
+  if (py::isinstance<py::float_>(v)) return FieldValue(v.cast<double>());
+  if (py::isinstance<py::str>(v)) return FieldValue(v.cast<std::string>());
+  if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
+    FieldValue::List items;
+    for (const py::handle item : v) items.push_back(valueOf(item, path));
+    return FieldValue(std::move(items));
+  }
+  if (py::hasattr(v, "__float__")) return FieldValue(v.cast<double>());  // numpy's floats
+  throw py::type_error(path + ": cannot take " + std::string(py::str(py::repr(v))) + " (" +
+                       std::string(py::str(v.get_type().attr("__name__"))) +
+                       "): give a bool, a number, text, a list, or a dict of a struct's fields");
+}
+
+void flatten(const py::dict& kw, const std::string& prefix, Settings& out) {
+  for (auto item : kw) {
+    const std::string key = py::str(item.first);
+    const std::string path = prefix.empty() && key == "method" ? "matcher.method" : prefix + key;
+    if (py::isinstance<py::dict>(item.second))
+      flatten(item.second.cast<py::dict>(), path + ".", out);
+    else
+      out.push_back({path, valueOf(item.second, path), path});
+  }
+}
+
+}  // namespace
+
+Settings settingsFromKeywords(const py::dict& kw) {
+  Settings out;
+  flatten(kw, "", out);
+  return out;
+}
+
 py::dict without(const py::dict& kw, std::initializer_list<const char*> names) {
   py::dict out;
   for (auto item : kw) {

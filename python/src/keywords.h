@@ -8,6 +8,8 @@
 
 #include <pybind11/pybind11.h>
 
+#include "radar_ndt/pipeline/run_settings.h"
+
 namespace radar_ndt {
 namespace python {
 
@@ -33,6 +35,12 @@ T keywordAs(const py::handle& value, const std::string& key) {
     throw py::type_error(key + ": cannot take " + std::string(py::str(py::repr(value))));
   }
 }
+
+/// Keyword arguments as a run's settings (radar_ndt/pipeline/run_settings.h): nested dicts give
+/// the paths (odometry={"gyro": {"bias_walk": 1e-7}} is odometry.gyro.bias_walk), each value handed
+/// over as its own type (bool, int, float, str, a list of these); `method` is matcher.method.
+/// TypeError for a value of another type (an options object: give its fields as a dict).
+Settings settingsFromKeywords(const py::dict& kw);
 
 /// `kw` without the keys in `names` (the ones a function takes itself).
 py::dict without(const py::dict& kw, std::initializer_list<const char*> names);

@@ -1,10 +1,12 @@
 // radar_ndt's compiled module (_radar_ndt): the library's matchers, readers, front-ends,
 // odometries, runs and metrics on numpy arrays. The package python/radar_ndt/ re-exports it.
-// Errors: std::invalid_argument (a setting out of range, validate()) is ValueError; IoError (a file
-// that cannot be read, naming it) is radar_ndt.IoError, an OSError with `filename` and `line`.
+// Errors: std::invalid_argument (a setting out of range, validate()) is ValueError; a run's keyword
+// that names no setting, or of the wrong type, is TypeError (SettingError); IoError (a file that
+// cannot be read, naming it) is radar_ndt.IoError, an OSError with `filename` and `line`.
 
 #include "bindings.h"
 #include "radar_ndt/io/io_error.h"
+#include "radar_ndt/pipeline/run_settings.h"
 
 namespace py = pybind11;
 
@@ -31,6 +33,10 @@ PYBIND11_MODULE(_radar_ndt, m) {
       err.attr("filename") = e.file();
       err.attr("line") = e.line();
       PyErr_SetObject(io_error.ptr(), err.ptr());
+    } catch (const radar_ndt::SettingError& e) {
+      // A keyword that names no setting of the run, or a value of the wrong type, is a TypeError
+      // (as an unknown keyword argument is); a value out of range a ValueError.
+      PyErr_SetString(e.why() == radar_ndt::SettingError::Why::Value ? PyExc_ValueError : PyExc_TypeError, e.what());
     }
   });
 

@@ -238,4 +238,45 @@ std::string priorText(const FrameError& prior, const char* label) {
   return line;
 }
 
+namespace {
+
+template <typename Run>
+RunEvaluation evaluateRunOf(const Run& run, const std::vector<Metric>& metrics) {
+  RunEvaluation e;
+  e.report = evaluate(associate(run.ground_truth, run.estimate), metrics.empty() ? defaultMetrics(run) : metrics);
+  e.prior = priorFrameError(run.steps, run.ground_truth);
+  e.prior_label = run.prior;
+  return e;
+}
+
+std::string withPrior(const std::string& summary, const RunEvaluation& e) {
+  if (e.prior.pairs == 0) return summary;
+  json j = json::parse(summary);
+  j["prior_frame"] = {{"prior", e.prior_label},
+                      {"trans_err_m", e.prior.trans_err_m},
+                      {"rot_err_deg", e.prior.rot_err_deg},
+                      {"pairs", e.prior.pairs}};
+  return j.dump(2);
+}
+
+}  // namespace
+
+RunEvaluation evaluateRun(const AutomotiveRunResult& run, const std::vector<Metric>& metrics) {
+  return evaluateRunOf(run, metrics);
+}
+RunEvaluation evaluateRun(const ScanningRunResult& run, const std::vector<Metric>& metrics) {
+  return evaluateRunOf(run, metrics);
+}
+
+std::string summaryJson(const AutomotiveRunResult& run, const RunEvaluation& evaluation) {
+  return withPrior(summaryJson(run, &evaluation.report), evaluation);
+}
+std::string summaryJson(const ScanningRunResult& run, const RunEvaluation& evaluation) {
+  return withPrior(summaryJson(run, &evaluation.report), evaluation);
+}
+
+std::string evaluationText(const RunEvaluation& evaluation) {
+  return formatTable(evaluation.report) + priorText(evaluation.prior, evaluation.prior_label.c_str());
+}
+
 }  // namespace radar_ndt

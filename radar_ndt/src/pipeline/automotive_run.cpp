@@ -194,6 +194,62 @@ AutomotiveRunResult runAutomotiveOdometry(const NuScenesDataset& dataset, const 
   return runAutomotiveOdometry(inputs, options, std::move(matcher), progress, on_cycle);
 }
 
+namespace {
+
+/// One cycle, read and through the front-end, into the odometry: the same for a run and a stream.
+/// A cycle whose own ego-velocity fit failed is processed again with the last valid one as the
+/// fallback, which only the order knows.
+class CycleStepper {
+ public:
+  CycleStepper(const AutomotiveFrontEnd& front_end, AutomotiveOdometry& odometry, const AutomotiveRunOptions& options,
+               AutomotiveRunResult& result)
+      : front_end_(front_end), odometry_(odometry), options_(options), result_(result) {}
+
+  /// The step `p` made; its problems (and a match refused for too few points) go into the result,
+  /// named by the cycle's index.
+  const OdometryStep& add(PreparedCycle& p) {
+    if (!p.processed.ego.valid && have_valid_) {
+      const auto t = Clock::now();
+      p.processed = front_end_.process(p.cycle, &last_valid_);
+      p.front_end_ms += ms(t, Clock::now());
+    }
+    countFrontEnd(p.processed, result_, samples_);
+    if (p.processed.ego.valid) {
+      last_valid_ = p.processed.ego;
+      have_valid_ = true;
+    }
+    const OdometryStep& step = odometry_.add(p.processed);
+    const std::string problem = problemOf(step, options_.odometry);
+    if (!problem.empty()) p.problems.push_back(problem);
+    for (const auto& q : p.problems) result_.problems.push_back("cycle " + std::to_string(p.index) + ": " + q);
+    samples_.add(p.read_ms, p.front_end_ms, step);
+    return step;
+  }
+
+  /// The result's figures and trajectory from the steps so far.
+  void finish() const {
+    result_.median_ms = {median(samples_.read), median(samples_.front_end), median(samples_.submap),
+                         median(samples_.match)};
+    result_.mean_ms = {mean(samples_.read), mean(samples_.front_end), mean(samples_.submap), mean(samples_.match)};
+    result_.median_total_ms = median(samples_.total);
+    result_.median_doppler_residual = median(samples_.residual);
+    result_.steps = odometry_.steps();
+    result_.counters = odometry_.counters();
+    result_.estimate = odometry_.trajectory();
+  }
+
+ private:
+  const AutomotiveFrontEnd& front_end_;
+  AutomotiveOdometry& odometry_;
+  const AutomotiveRunOptions& options_;
+  AutomotiveRunResult& result_;
+  CycleSamples samples_;
+  EgoVelocity last_valid_;
+  bool have_valid_ = false;
+};
+
+}  // namespace
+
 AutomotiveRunResult runAutomotiveOdometry(const AutomotiveInputs& inputs, const AutomotiveRunOptions& options,
                                           MatcherAdapter matcher,
                                           const std::function<void(std::size_t, std::size_t)>& progress,
@@ -206,45 +262,72 @@ AutomotiveRunResult runAutomotiveOdometry(const AutomotiveInputs& inputs, const 
   if (options.odometry.car.any() && inputs.car) odometry.setVehicleSignals(inputs.car);
   AutomotiveRunResult result = startResult(inputs, options, odometry.usesCar());
   const std::size_t n = options.max_cycles > 0 ? std::min(options.max_cycles, sequence.size()) : sequence.size();
-  CycleSamples samples;
-  EgoVelocity last_valid;
-  bool have_valid = false;
+  CycleStepper stepper(front_end, odometry, options, result);
   // Cycles are read and through the front-end on the worker threads, the odometry takes them here in
-  // order. A cycle whose own ego-velocity fit failed is processed again with the last valid one as
-  // the fallback, which only the order knows: the same result as one thread gives.
+  // order: the same result as one thread gives.
   detail::runOrdered<PreparedCycle>(
       0, n, options.threads, [&](std::size_t k) { return prepareCycle(sequence, front_end, k); },
       [&](PreparedCycle& p) {
-        if (!p.processed.ego.valid && have_valid) {
-          const auto t = Clock::now();
-          p.processed = front_end.process(p.cycle, &last_valid);
-          p.front_end_ms += ms(t, Clock::now());
-        }
-        countFrontEnd(p.processed, result, samples);
-        if (p.processed.ego.valid) {
-          last_valid = p.processed.ego;
-          have_valid = true;
-        }
-        const OdometryStep& step = odometry.add(p.processed);
-        const std::string problem = problemOf(step, options.odometry);
-        if (!problem.empty()) p.problems.push_back(problem);
-        for (const auto& q : p.problems) result.problems.push_back("cycle " + std::to_string(p.index) + ": " + q);
-        samples.add(p.read_ms, p.front_end_ms, step);
+        const OdometryStep& step = stepper.add(p);
         if (on_cycle) on_cycle(p.index, step, *p.processed.cloud);
         if (progress) progress(p.index + 1, n);
       });
-  result.median_ms = {median(samples.read), median(samples.front_end), median(samples.submap), median(samples.match)};
-  result.mean_ms = {mean(samples.read), mean(samples.front_end), mean(samples.submap), mean(samples.match)};
-  result.median_total_ms = median(samples.total);
-  result.median_doppler_residual = median(samples.residual);
-  result.steps = odometry.steps();
-  result.counters = odometry.counters();
-  result.estimate = odometry.trajectory();
+  stepper.finish();
   const Trajectory gt = sequence.groundTruthTrajectory();
   const auto m = static_cast<std::ptrdiff_t>(std::min(n, std::min(gt.stamps.size(), gt.poses.size())));
   result.ground_truth.stamps.assign(gt.stamps.begin(), gt.stamps.begin() + m);
   result.ground_truth.poses.assign(gt.poses.begin(), gt.poses.begin() + m);
   return result;
+}
+
+struct AutomotiveStream::Impl {
+  Impl(const AutomotiveRunOptions& o, std::shared_ptr<const VehicleSignals> car_signals, const std::string& name)
+      : options((o.validate(), o)),
+        front_end(options.front_end),
+        odometry(options.odometry, makeMatcher(options.matcher)),
+        stepper(front_end, odometry, options, result) {
+    const MatcherUses& uses = findMatcher(options.matcher.method).uses;
+    if ((uses.gyro || uses.wheels || options.odometry.car.any()) && !car_signals)
+      throw std::invalid_argument(name + ": the options fuse the car's own sensors, and the stream has none");
+    if (options.odometry.car.any()) odometry.setVehicleSignals(std::move(car_signals));
+    result.scene = name;
+    result.method = options.matcher.method;
+    result.submap_size = options.odometry.submap_size;
+    if (odometry.usesCar()) result.prior = carPriorName(options.odometry.car);
+  }
+  AutomotiveRunOptions options;
+  AutomotiveRunResult result;
+  AutomotiveFrontEnd front_end;
+  AutomotiveOdometry odometry;
+  CycleStepper stepper;
+  std::size_t cycles = 0;
+};
+
+AutomotiveStream::AutomotiveStream(const AutomotiveRunOptions& options, std::shared_ptr<const VehicleSignals> car,
+                                   const std::string& name)
+    : impl_(std::make_unique<Impl>(options, std::move(car), name)) {}
+AutomotiveStream::~AutomotiveStream() = default;
+
+AutomotiveStream::Added AutomotiveStream::add(RadarCycle cycle) {
+  PreparedCycle p;
+  p.index = impl_->cycles++;
+  p.cycle = std::move(cycle);
+  const auto t0 = Clock::now();
+  p.processed = impl_->front_end.process(p.cycle);
+  p.front_end_ms = ms(t0, Clock::now());
+  const std::size_t said = impl_->result.problems.size();
+  Added a{impl_->stepper.add(p), p.processed.cloud, {}};
+  a.problems.assign(impl_->result.problems.begin() + static_cast<std::ptrdiff_t>(said), impl_->result.problems.end());
+  return a;
+}
+
+const AutomotiveOdometry& AutomotiveStream::odometry() const {
+  return impl_->odometry;
+}
+
+AutomotiveRunResult AutomotiveStream::result() const {
+  impl_->stepper.finish();
+  return impl_->result;
 }
 
 void runAutomotiveScenes(const NuScenesDataset& dataset, const std::vector<const NuScenesScene*>& scenes,

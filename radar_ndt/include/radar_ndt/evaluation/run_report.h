@@ -42,6 +42,24 @@ FrameError priorFrameError(const std::vector<OdometryStep>& steps, const Traject
 /// says which prior), "" without pairs.
 std::string priorText(const FrameError& prior, const char* label);
 
+/// A run judged against its ground truth, the same for every caller: its metrics and, beside them,
+/// its own prior's frame error, the prior named as the run names it (run.prior).
+struct RunEvaluation {
+  EvaluationReport report;
+  FrameError prior;
+  std::string prior_label;
+};
+/// `metrics` empty: the pipeline's (defaultMetrics). std::invalid_argument from evaluate() when the
+/// run and its ground truth share too few poses.
+RunEvaluation evaluateRun(const AutomotiveRunResult& run, const std::vector<Metric>& metrics = {});
+RunEvaluation evaluateRun(const ScanningRunResult& run, const std::vector<Metric>& metrics = {});
+/// The summary JSON with the evaluation: "metrics" (metricsJson's shape) and, where the prior was
+/// judged, "prior_frame" {prior, trans_err_m, rot_err_deg, pairs}.
+std::string summaryJson(const AutomotiveRunResult& run, const RunEvaluation& evaluation);
+std::string summaryJson(const ScanningRunResult& run, const RunEvaluation& evaluation);
+/// The metrics table and the prior's line, as the apps print them after the summary.
+std::string evaluationText(const RunEvaluation& evaluation);
+
 /// For a run whose steps were mostly not matched (OdometryCounters::mostlyUnmatched: fallbacks,
 /// too few points and unreadable files, more than half of the steps after the first), one line
 /// that says so, how, and what to check; "" otherwise. radar_odometry prints it last and exits 1.

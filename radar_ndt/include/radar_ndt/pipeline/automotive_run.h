@@ -128,6 +128,36 @@ AutomotiveRunResult runAutomotiveOdometry(const AutomotiveInputs& inputs, const 
                                           const std::function<void(std::size_t, std::size_t)>& progress = nullptr,
                                           const CycleCallback& on_cycle = nullptr);
 
+/// The automotive run one cycle at a time, as cycles arrive (the ROS node): the front-end, the
+/// fallback ego-velocity and the odometry runAutomotiveOdometry runs, so the same cycles give the
+/// same steps, and the same result. The cycles' sweeps carry their mountings.
+class AutomotiveStream {
+ public:
+  /// Validates `options` (threads and max_cycles are unused). `car`: the car's signals, which may
+  /// grow as samples arrive (required when the options fuse them); `name` names the stream in
+  /// results and problems.
+  explicit AutomotiveStream(const AutomotiveRunOptions& options, std::shared_ptr<const VehicleSignals> car = nullptr,
+                            const std::string& name = "stream");
+  ~AutomotiveStream();
+
+  struct Added {
+    const OdometryStep& step;  ///< valid until the next add
+    /// The front-end's cloud (the vehicle frame at the cycle's time, moving detections removed
+    /// unless the method weighs them), as CycleCallback's.
+    pcl::PointCloud<PointRadar>::ConstPtr cloud;
+    std::vector<std::string> problems;  ///< what the cycle met ("cycle K: ..."), as the run reports it
+  };
+  /// The next cycle, later than the last.
+  Added add(RadarCycle cycle);
+  const AutomotiveOdometry& odometry() const;
+  /// The run so far as runAutomotiveOdometry reports it (no ground truth; the read time 0).
+  AutomotiveRunResult result() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// `options` set for `method` (a name in the registry of matchers): the method, and what it needs
 /// beyond it: a matcher with Doppler weights (rapp-ndt; MatcherUses) weighs points by Doppler
 /// agreement (odometry.doppler_weights) and so keeps the moving detections (front_end.remove_moving

@@ -44,6 +44,7 @@ RadarPointFields nuScenesArs408Fields(const NuScenesRadarFilter& filter) {
   f.max_range = filter.max_range;
   f.keep = {
       {"invalid_state", filter.invalid_states}, {"dyn_prop", filter.dyn_props}, {"ambig_state", filter.ambig_states}};
+  if (!filter.doppler_ambig_states.empty()) f.keep_doppler = {{"ambig_state", filter.doppler_ambig_states}};
   return f;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "pcd_header.h"
@@ -24,7 +25,7 @@ bool accepts(const std::vector<int>& allowed, double value) {
 struct Layout {
   int x = 0, y = 1, z = 2;
   int doppler_a = -1, doppler_b = -1, rcs = -1, power = -1, acc_x = -1, acc_y = -1;
-  int keep_first = 0;
+  int keep_first = 0, keep_doppler_first = 0;
   std::size_t count = 0;
   explicit Layout(const RadarPointFields& f) {
     int c = 3;
@@ -40,9 +41,21 @@ struct Layout {
       acc_y = c++;
     }
     keep_first = c;
-    count = static_cast<std::size_t>(c) + f.keep.size();
+    keep_doppler_first = c + static_cast<int>(f.keep.size());
+    count = static_cast<std::size_t>(keep_doppler_first) + f.keep_doppler.size();
   }
 };
+
+/// Whether row `r` holds, in each listed field (its columns from `first` on), one of the field's
+/// values; a field the data lacks passes.
+bool passes(const std::vector<std::pair<std::string, std::vector<int>>>& lists, int first, const double* r,
+            const std::vector<char>& present) {
+  for (std::size_t k = 0; k < lists.size(); ++k) {
+    const std::size_t c = static_cast<std::size_t>(first) + k;
+    if (present[c] && !accepts(lists[k].second, r[c])) return false;
+  }
+  return true;
+}
 
 /// A point's standard deviations along the sensor's x and y; NaN when it has none valid.
 std::pair<double, double> sigmas(const double* r, const Layout& l, const RadarPointFields& f) {
@@ -75,6 +88,7 @@ std::vector<std::string> RadarPointFields::columns() const {
     c.push_back(accuracy_y);
   }
   for (const auto& k : keep) c.push_back(k.first);
+  for (const auto& k : keep_doppler) c.push_back(k.first);
   return c;
 }
 
@@ -110,12 +124,7 @@ pcl::PointCloud<PointRadar> convertRadarPoints(const std::vector<double>& table,
       continue;
     }
     const double range = std::sqrt(r[l.x] * r[l.x] + r[l.y] * r[l.y] + z * z);
-    bool keep = range <= fields.max_range;
-    for (std::size_t k = 0; keep && k < fields.keep.size(); ++k) {
-      const std::size_t c = static_cast<std::size_t>(l.keep_first) + k;
-      keep = !present[c] || accepts(fields.keep[k].second, r[c]);
-    }
-    if (!keep) {
+    if (range > fields.max_range || !passes(fields.keep, l.keep_first, r, present)) {
       ++local.dropped_by_filter;
       continue;
     }
@@ -128,6 +137,10 @@ pcl::PointCloud<PointRadar> convertRadarPoints(const std::vector<double>& table,
     else if (fields.doppler == DopplerKind::Radial)
       doppler = fields.radial_sign * va;
     p.doppler = finiteAsFloat(doppler) ? static_cast<float>(doppler) : 0.f;
+    if (!passes(fields.keep_doppler, l.keep_doppler_first, r, present)) {
+      p.doppler = std::numeric_limits<float>::quiet_NaN();
+      ++local.doppler_unused;
+    }
     p.rcs = l.rcs >= 0 && finiteAsFloat(r[l.rcs]) ? static_cast<float>(r[l.rcs]) : 0.f;
     p.sensor_id = sensor_id;
     const auto [sx, sy] = sigmas(r, l, fields);

@@ -196,8 +196,27 @@ void readAccuracy(const Node& n, RadarPointFields& f) {
   }
 }
 
+/// `keep:` or `keep_doppler:`: field: [the integer values kept, ...].
+std::vector<std::pair<std::string, std::vector<int>>> keepLists(const Node& n, const char* key) {
+  std::vector<std::pair<std::string, std::vector<int>>> lists;
+  const auto k = n.child(key);
+  if (!k) return lists;
+  if (!k->isMap()) k->fail("expected field: [values kept, ...]");
+  for (const std::string& name : k->keys()) {
+    // A key without a value (`keep: {state: }`), or one a YAML alias made no scalar, has no child.
+    const std::optional<Node> child = k->child(name);
+    if (!child) k->fail("'" + name + "': expected a list of the integer values kept");
+    const Node& values = *child;
+    if (!values.isSequence()) values.fail("expected a list of the integer values kept");
+    std::vector<int> v;
+    for (std::size_t i = 0; i < values.size(); ++i) v.push_back(values.at(i).integer());
+    lists.emplace_back(name, v);
+  }
+  return lists;
+}
+
 RadarPointFields readFields(const Node& n) {
-  n.expectMap({"position", "doppler", "rcs", "power", "accuracy", "max_range", "keep"});
+  n.expectMap({"position", "doppler", "rcs", "power", "accuracy", "max_range", "keep", "keep_doppler"});
   RadarPointFields f;
   f.doppler = DopplerKind::None;
   if (const auto p = n.child("position")) {
@@ -217,19 +236,8 @@ RadarPointFields readFields(const Node& n) {
     f.max_range = r->number();
     if (!(f.max_range > 0)) r->fail("must be > 0 (m)");
   }
-  if (const auto k = n.child("keep")) {
-    if (!k->isMap()) k->fail("expected field: [values kept, ...]");
-    for (const std::string& name : k->keys()) {
-      // A key without a value (`keep: {state: }`), or one a YAML alias made no scalar, has no child.
-      const std::optional<Node> child = k->child(name);
-      if (!child) k->fail("'" + name + "': expected a list of the integer values kept");
-      const Node& values = *child;
-      if (!values.isSequence()) values.fail("expected a list of the integer values kept");
-      std::vector<int> v;
-      for (std::size_t i = 0; i < values.size(); ++i) v.push_back(values.at(i).integer());
-      f.keep.emplace_back(name, v);
-    }
-  }
+  f.keep = keepLists(n, "keep");
+  f.keep_doppler = keepLists(n, "keep_doppler");
   return f;
 }
 

@@ -163,7 +163,9 @@ py::list fieldsOf() {
   return out;
 }
 
-void bindRunFunctions(py::module_& m) {
+/// The options a run takes and their table: scanning_options, run_options, option_values,
+/// option_fields.
+void bindRunOptions(py::module_& m) {
   m.def(
       "option_fields",
       [](const std::string& pipeline) {
@@ -206,6 +208,9 @@ void bindRunFunctions(py::module_& m) {
       "Every field of the options by its path, {path: value}: what radar_odometry --show-options prints.");
   m.def(
       "option_values", [](const ScanningRunOptions& o) { return valuesOf(o); }, py::arg("options"));
+}
+
+void bindRunFunctions(py::module_& m) {
   m.def(
       "run_scanning",
       [](const std::filesystem::path& path, const std::string& format, const py::kwargs& kw) {
@@ -253,6 +258,7 @@ void bindRosbagRun(py::module_& m) {
 
 void bindRuns(py::module_& m) {
   bindRunResults(m);
+  bindRunOptions(m);
   bindRunFunctions(m);
   bindRosbagRun(m);
 }

@@ -354,7 +354,7 @@ radars:
       rcs: rcs
       accuracy: {{ars408_rms: [dist_long_rms, dist_lat_rms]}}
       max_range: 150
-      keep: {{invalid_state: [0, 4, 8, 9, 10, 11, 12, 15, 16, 17], ambig_state: [3]}}
+      keep: {{invalid_state: [0, 4, 8, 9, 10, 11, 12, 15, 16, 17]}}
 {radars}
 """)
     return str(path)

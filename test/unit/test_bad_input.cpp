@@ -234,10 +234,13 @@ TEST(BadInput, FuzzerFindingsStayFixed) {
     EXPECT_EQ(cloud[k].y, ys[i]) << i;
     ++k;
   }
-  // The nuScenes reader: the garbled invalid_state field is absent, so the default filter's
-  // validity test cannot pass; with no filter, every finite point is read at its place.
+  // The nuScenes reader: the garbled invalid_state field is absent (a keep list of a field the
+  // data lacks keeps every detection) and no ambig_state is 3, so the devkit's keep list drops
+  // every point; with no filter, every finite point is read at its place.
   NuScenesPcdStats stats;
-  const auto filtered = readNuScenesRadarPcd(pcd, NuScenesRadarFilter{}, 0, &stats);
+  NuScenesRadarFilter devkit;
+  devkit.ambig_states = {3};
+  const auto filtered = readNuScenesRadarPcd(pcd, devkit, 0, &stats);
   EXPECT_EQ(stats.points_in_file, 5u);
   EXPECT_EQ(stats.kept + stats.dropped_by_filter + stats.dropped_non_finite, 5u);
   EXPECT_EQ(filtered.size(), stats.kept);

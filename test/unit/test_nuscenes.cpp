@@ -155,6 +155,28 @@ TEST(NuScenesPcd, MalformedFilesNameTheFileAndProblem) {
                 tmp("does_not_exist.pcd"), "no such file");
 }
 
+TEST(NuScenesPcd, AmbiguousDopplerKeepsItsPositionWithoutItsDoppler) {
+  // Three valid clusters: unambiguous Doppler (3), ambiguous (1), and 2.
+  const std::string path = tmp("ambig.pcd");
+  writeAll(path,
+           std::string(kAsciiHeader) + "0 2 0 10 0 1 0 3 19 19\n0 1 0 20 0 1 0 1 19 19\n0 3 0 30 0 1 0 2 19 19\n");
+  NuScenesRadarFilter every;  // the default: every ambig_state kept, every Doppler used
+  auto c = readNuScenesRadarPcd(path, every, 0);
+  ASSERT_EQ(c.size(), 3u);
+  for (const auto& p : c) EXPECT_TRUE(std::isfinite(p.doppler));
+  NuScenesRadarFilter devkit;
+  devkit.ambig_states = {3};  // the nuScenes devkit's default: the ambiguous ones dropped
+  EXPECT_EQ(readNuScenesRadarPcd(path, devkit, 0).size(), 1u);
+  NuScenesRadarFilter match_only;
+  match_only.doppler_ambig_states = {3};  // kept for the match, their Doppler unused
+  c = readNuScenesRadarPcd(path, match_only, 0);
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_FLOAT_EQ(c[0].doppler, 2.f);
+  EXPECT_TRUE(std::isnan(c[1].doppler));
+  EXPECT_TRUE(std::isnan(c[2].doppler));
+  EXPECT_FLOAT_EQ(c[2].x, 30.f) << "the position is kept";
+}
+
 TEST(NuScenesPcd, RealSweepBinaryMatchesAsciiAndCompressedCopies) {
   REQUIRE_DATA();
   const std::string path = someSweep(20);

@@ -202,9 +202,11 @@ TEST(SensorDescription, ThePresetsReadAndTheNuScenesOneIsTheReadersFields) {
         << r.name;
     EXPECT_EQ(r.fields.max_range, ref.max_range);
     EXPECT_EQ(r.fields.accuracy, AccuracyKind::Ars408Rms);
-    ASSERT_EQ(r.fields.keep.size(), 2u);  // dyn_prop keeps all: left out of the preset
+    // dyn_prop and ambig_state keep all: left out of the preset.
+    ASSERT_EQ(r.fields.keep.size(), 1u);
     EXPECT_EQ(r.fields.keep[0], ref.keep[0]);
-    EXPECT_EQ(r.fields.keep[1], ref.keep[2]);
+    EXPECT_TRUE(ref.keep[1].second.empty() && ref.keep[2].second.empty());
+    EXPECT_EQ(r.fields.keep_doppler, ref.keep_doppler);
     EXPECT_EQ(r.topic, "/" + r.name);
   }
   EXPECT_EQ(d.radars[0].name, "RADAR_FRONT");  // sensor.json's order: the channel indices agree

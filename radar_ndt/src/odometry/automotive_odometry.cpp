@@ -233,7 +233,9 @@ void AutomotiveOdometry::weightByDoppler(pcl::PointCloud<PointRadar>& cloud,
   for (std::size_t i = first; i < cloud.size(); ++i) {
     PointRadar& p = cloud[i];
     double w = 0;
-    if (p.sensor_id < mountings.size() && mountings[p.sensor_id].valid) {
+    if (std::isnan(p.doppler)) {
+      w = 1;  // no usable Doppler: no evidence that it moves
+    } else if (p.sensor_id < mountings.size() && mountings[p.sensor_id].valid) {
       const double e = p.doppler - predictedDoppler(mountings[p.sensor_id], p.x, p.y, v);
       w = std::exp(-0.5 * e * e * inv);
     }

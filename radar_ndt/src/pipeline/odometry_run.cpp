@@ -56,8 +56,8 @@ bool isScanningLayout(const std::string& format) {
 }  // namespace
 
 SensorDescription describedSensors(SensorDescription d, const AutomotiveRunOptions& o, const Settings& given) {
-  for (const char* list :
-       {"sequence.filter.invalid_states", "sequence.filter.dyn_props", "sequence.filter.ambig_states"})
+  for (const char* list : {"sequence.filter.invalid_states", "sequence.filter.dyn_props",
+                           "sequence.filter.ambig_states", "sequence.filter.doppler_ambig_states"})
     if (const Setting* s = findSetting(given, list))
       throw SettingError(SettingError::Why::NotThisLayout,
                          s->spelled() +

@@ -47,9 +47,15 @@ struct RadarPointFields {
   /// Detections kept only when each listed field's value (rounded to an integer) is one of its
   /// values; a field the data lacks keeps every detection.
   std::vector<std::pair<std::string, std::vector<int>>> keep;
+  /// Detections whose Doppler is used (the ego-velocity fit, the moving-detection test, Doppler
+  /// weights) only when each listed field's value is one of its values; the others keep their
+  /// position for the map and the match, their `doppler` NaN (a radar's ambiguous Doppler says
+  /// nothing about where the reflector is). A field the data lacks leaves every Doppler used.
+  std::vector<std::pair<std::string, std::vector<int>>> keep_doppler;
 
   /// The fields read, in the order convertRadarPoints takes their columns: x, y, z, then the
-  /// Doppler, rcs, power and accuracy fields that are named, then the keep filters'.
+  /// Doppler, rcs, power and accuracy fields that are named, then the keep filters', then the
+  /// keep_doppler filters'.
   std::vector<std::string> columns() const;
   /// The fields the data must have: x, y and the Doppler fields.
   std::vector<std::string> requiredColumns() const;
@@ -60,13 +66,15 @@ struct RadarPointStats {
   std::size_t kept = 0;
   std::size_t dropped_by_filter = 0;
   std::size_t dropped_non_finite = 0;  ///< NaN or Inf coordinates or velocities
+  std::size_t doppler_unused = 0;      ///< kept, their Doppler NaN (keep_doppler)
 };
 
 /// Converts `n` detections given as a row-major table of doubles, one row a detection and one
 /// column for each of `fields.columns()`, into PointRadar in
 /// the sensor frame: x y z, `doppler` positive when the target recedes, `rcs`, `power`, the
 /// covariance diagonal from the accuracy (0 for AccuracyKind::Model, and where a point's accuracy is
-/// invalid), `sensor_id`. Detections with non-finite coordinates or Doppler are dropped and counted.
+/// invalid), `sensor_id`. Detections with non-finite coordinates or Doppler are dropped and counted;
+/// those whose Doppler keep_doppler refuses get `doppler` NaN.
 /// `present[c]` says whether the data has column c at all (a missing z is 0, a missing filter
 /// field keeps every detection; the required columns must be present).
 pcl::PointCloud<PointRadar> convertRadarPoints(const std::vector<double>& table, std::size_t n,

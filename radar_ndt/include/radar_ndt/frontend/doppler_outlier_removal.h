@@ -16,7 +16,8 @@ namespace radar_ndt {
 
 /// Keeps points (in the vehicle frame, with `doppler` and `sensor_id`) whose measured radial
 /// velocity is within `threshold` of what a stationary point shows when the vehicle moves with the
-/// given ego-velocity. Points of sensors without a valid mounting are removed.
+/// given ego-velocity. Points of sensors without a valid mounting are removed; points whose Doppler
+/// is NaN (not usable: RadarPointFields::keep_doppler) cannot be told moving and are kept.
 template <typename PointT = PointRadar>
 class DopplerOutlierRemoval : public pcl::FilterIndices<PointT> {
   using Base = pcl::FilterIndices<PointT>;
@@ -45,8 +46,10 @@ class DopplerOutlierRemoval : public pcl::FilterIndices<PointT> {
     for (const auto i : *this->indices_) {
       const PointT& p = cloud[i];
       bool keep = false;
-      if (p.sensor_id < mountings_.size() && mountings_[p.sensor_id].valid && std::isfinite(p.doppler) &&
-          std::isfinite(p.x) && std::isfinite(p.y))
+      if (std::isnan(p.doppler) && std::isfinite(p.x) && std::isfinite(p.y))
+        keep = true;  // no usable Doppler (RadarPointFields::keep_doppler): it cannot be told moving
+      else if (p.sensor_id < mountings_.size() && mountings_[p.sensor_id].valid && std::isfinite(p.doppler) &&
+               std::isfinite(p.x) && std::isfinite(p.y))
         keep = std::abs(p.doppler - predictedDoppler(mountings_[p.sensor_id], p.x, p.y, velocity_)) <= threshold_;
       if (keep != this->negative_)
         indices.push_back(i);

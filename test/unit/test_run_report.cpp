@@ -1,11 +1,14 @@
 // Run reports: the steps CSV, the summary JSON (with the metrics in radar_eval's shape) and text.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "radar_ndt/evaluation/run_report.h"
+#include "radar_ndt/evaluation/svg_plot.h"
 
 using namespace radar_ndt;
 
@@ -167,4 +170,37 @@ TEST(RunReport, ThePriorIsJudgedAgainstTheTruthAsTheMatchesAre) {
   EXPECT_NEAR(prior.trans_err_m, 0.1, 2e-3);  // the guess's extra 0.1 m, seen from the turned frame
   EXPECT_NE(priorText(prior, "constant velocity").find("prior (constant velocity): frame 0.1"), std::string::npos);
   EXPECT_EQ(priorText(FrameError{}, "constant velocity"), "");
+}
+
+// A run judged against its ground truth once, for every caller (evaluateRun): the metrics, and the
+// method's own prior beside them, named as the run names it; the SVG of estimate against truth.
+TEST(RunReport, ARunsEvaluationCarriesItsPriorUnderItsOwnName) {
+  ScanningRunResult r = scanningRun();
+  r.prior = "constant velocity, gyro yaw";
+  Pose2 pose = Pose2::Zero();
+  for (std::size_t k = 0; k < r.steps.size(); ++k) {
+    OdometryStep& s = r.steps[k];
+    s.prior_motion = Pose2(2.4, 0.0, 0.0);
+    if (k > 0) pose = compose(pose, s.motion);
+    s.pose = pose;
+    r.estimate.stamps.push_back(1e-6 * static_cast<double>(s.timestamp_us));
+    r.estimate.poses.push_back(toIsometry3(pose));
+    r.ground_truth.stamps.push_back(1e-6 * static_cast<double>(s.timestamp_us));
+    r.ground_truth.poses.push_back(toIsometry3(Pose2(2.5 * static_cast<double>(k), 0.0, 0.0)));
+  }
+  const RunEvaluation e = evaluateRun(r, {Metric::Frame});
+  EXPECT_EQ(e.prior_label, "constant velocity, gyro yaw");
+  EXPECT_EQ(e.prior.pairs, 2u);
+  EXPECT_NEAR(e.prior.trans_err_m, 0.1, 1e-9);
+  const nlohmann::json j = nlohmann::json::parse(summaryJson(r, e));
+  EXPECT_EQ(j["prior_frame"]["prior"], "constant velocity, gyro yaw");
+  EXPECT_TRUE(j.contains("metrics"));
+  const std::string text = evaluationText(e);
+  EXPECT_NE(text.find("prior (constant velocity, gyro yaw)"), std::string::npos) << text;
+  const std::string svg = ::testing::TempDir() + "run_report_eval.svg";
+  writeEvaluationSvg(svg, associate(r.ground_truth, r.estimate), e.report, "seq");
+  std::ifstream in(svg);
+  const std::string whole((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(whole.find("<svg"), std::string::npos);
+  EXPECT_NE(whole.find("</svg>"), std::string::npos);
 }

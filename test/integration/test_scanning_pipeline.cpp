@@ -221,7 +221,7 @@ void ScanningFaults::expectFaultsReportedAndAccuracyKept(const ScanningRunOption
   // it, so a difference lives on at the matcher's noise (1–3 cm), and where the two runs' keyframe
   // schedules part (a distance threshold crossed a scan apart) the frames after it are matched over
   // other baselines, differing by the matching noise itself, which in this drive's sharp turns is
-  // 0.3–1° a frame for the clean run too (docs/scanning_pipeline.md, "Faults that cost only their neighbourhood").
+  // 0.3–1° a frame for the clean run too (docs/scanning_experiments.md, "Faults that cost only their neighbourhood").
   const Change c = change(clean, r, sequence, neighbourhoods(r));
   EXPECT_GT(c.within, 0.75) << "share of the frames outside the neighbourhoods within 2 cm and 0.1°";
   const auto kitti = [](const ScanningRunResult& x) {

@@ -1,9 +1,9 @@
 // The automotive radar odometry as a ROS node (docs/ros.md): subscribes to the radar topics of a
-// sensor description, assembles cycles as they arrive (ros1::LiveCycles, the offline planner's
+// sensor description, assembles cycles as they arrive (LiveCycles, the offline planner's
 // rule), runs the front-end and the odometry the offline run uses. With ~odometry/car/gyro (the
 // offline --imu) it fuses the description's IMU topic's yaw rate, with ~odometry/car/wheels (the
 // offline --wheels) its speed topic's speed (geometry_msgs/TwistStamped or nav_msgs/Odometry), each
-// cycle held until the signals have reached past it (ros1::LiveVehicleSignals).
+// cycle held until the signals have reached past it (LiveVehicleSignals).
 #include <algorithm>
 #include <cstdio>
 #include <deque>
@@ -20,10 +20,10 @@
 #include "node/node_common.h"
 #include "radar_ndt/evaluation/point_map.h"
 #include "radar_ndt/evaluation/run_report.h"
+#include "radar_ndt/io/live_cycles.h"
+#include "radar_ndt/io/live_vehicle_signals.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/odometry_run.h"
-#include "radar_ndt/ros/live_cycles.h"
-#include "radar_ndt/ros/live_vehicle_signals.h"
 #include "radar_ndt/ros/mounting_tree.h"
 #include "radar_ndt/ros/point_cloud2.h"
 
@@ -49,10 +49,10 @@ class AutomotiveNode : public RadarNode {
     if (use_speed_ && d_.speed_topic.empty())
       throw std::invalid_argument("~odometry/car/wheels: " + d_.source + " names no speed topic");
     offset_us_ = std::llround(options_.odometry.car.time_offset * 1e6);
-    std::vector<ros1::LiveVehicleSignals::Signal> in_use;
-    if (use_gyro_) in_use.push_back(ros1::LiveVehicleSignals::Signal::YawRate);
-    if (use_speed_) in_use.push_back(ros1::LiveVehicleSignals::Signal::Speed);
-    car_ = ros1::LiveVehicleSignals(use_gyro_ ? d_.imu_topic : d_.speed_topic, in_use);
+    std::vector<LiveVehicleSignals::Signal> in_use;
+    if (use_gyro_) in_use.push_back(LiveVehicleSignals::Signal::YawRate);
+    if (use_speed_) in_use.push_back(LiveVehicleSignals::Signal::Speed);
+    car_ = LiveVehicleSignals(use_gyro_ ? d_.imu_topic : d_.speed_topic, in_use);
     imu_ = TopicState(d_.imu_topic, "imu", "not a number");
     speed_ = TopicState(d_.speed_topic, "speed", "not a speed");
     resetOdometry();
@@ -121,7 +121,7 @@ class AutomotiveNode : public RadarNode {
   bool usesCar() const { return use_gyro_ || use_speed_; }
 
   /// A sample of one of the car's signals on `state`'s topic, taken as the offline reader takes it.
-  void onSignal(ros1::LiveVehicleSignals::Signal signal, TopicState& state, const ros::Time& header, double value,
+  void onSignal(LiveVehicleSignals::Signal signal, TopicState& state, const ros::Time& header, double value,
                 const char* what) {
     const std::int64_t t = stampOf(d_.stamps, header);
     if (state.arrived(t)) restart(state.last_problem, state, t);
@@ -131,7 +131,7 @@ class AutomotiveNode : public RadarNode {
   }
 
   void onImu(const sensor_msgs::Imu& msg) {
-    onSignal(ros1::LiveVehicleSignals::Signal::YawRate, imu_, msg.header.stamp, msg.angular_velocity.z, "a yaw rate");
+    onSignal(LiveVehicleSignals::Signal::YawRate, imu_, msg.header.stamp, msg.angular_velocity.z, "a yaw rate");
   }
 
   /// The speed: twist.linear.x of a geometry_msgs/TwistStamped or nav_msgs/Odometry (as offline).
@@ -139,10 +139,10 @@ class AutomotiveNode : public RadarNode {
     const std::string& type = msg.getDataType();
     if (type == "geometry_msgs/TwistStamped") {
       const auto m = msg.instantiate<geometry_msgs::TwistStamped>();
-      onSignal(ros1::LiveVehicleSignals::Signal::Speed, speed_, m->header.stamp, m->twist.linear.x, "a speed");
+      onSignal(LiveVehicleSignals::Signal::Speed, speed_, m->header.stamp, m->twist.linear.x, "a speed");
     } else if (type == "nav_msgs/Odometry") {
       const auto m = msg.instantiate<nav_msgs::Odometry>();
-      onSignal(ros1::LiveVehicleSignals::Signal::Speed, speed_, m->header.stamp, m->twist.twist.linear.x, "a speed");
+      onSignal(LiveVehicleSignals::Signal::Speed, speed_, m->header.stamp, m->twist.twist.linear.x, "a speed");
     } else {
       ++speed_.messages;
       ++speed_.malformed;
@@ -163,7 +163,7 @@ class AutomotiveNode : public RadarNode {
     reference_ = chooseReferenceChannel(m, names, d_.reference, "the node's radars");
     std::vector<std::uint16_t> all;
     for (std::size_t i = 0; i < d_.radars.size(); ++i) all.push_back(static_cast<std::uint16_t>(i));
-    live_ = std::make_unique<ros1::LiveCycles>(reference_, period_us_, all);
+    live_ = std::make_unique<LiveCycles>(reference_, period_us_, all);
     for (auto& s : waiting_) live_->add(std::move(s));
     waiting_.clear();
     return reference_;
@@ -239,7 +239,7 @@ class AutomotiveNode : public RadarNode {
       waiting_.push_back(std::move(*sweep));
       return;
     }
-    if (live_->add(std::move(*sweep)) == ros1::LiveCycles::Added::Late) {
+    if (live_->add(std::move(*sweep)) == LiveCycles::Added::Late) {
       ++c.state.late;
       c.state.problem(d_.radars[i].topic + ": a sweep older than the last cycle arrived late: left out");
     }
@@ -343,11 +343,11 @@ class AutomotiveNode : public RadarNode {
   TopicState speed_;  ///< the speed topic's
   bool use_gyro_ = false, use_speed_ = false;
   std::int64_t offset_us_ = 0;  ///< the car's clock minus the radars' (odometry.car.time_offset)
-  ros1::LiveVehicleSignals car_;
+  LiveVehicleSignals car_;
   std::int64_t stream_us_ = -1;     ///< the newest message time seen, on the radars' clock
   std::deque<RadarCycle> pending_;  ///< complete cycles waiting for the car's signals
   std::uint16_t reference_ = 0;
-  std::unique_ptr<ros1::LiveCycles> live_;
+  std::unique_ptr<LiveCycles> live_;
   std::vector<RadarSweepData> waiting_;
   std::map<std::int64_t, ros::WallTime> arrival_;
   CycleTiming timing_;

@@ -16,6 +16,7 @@
 #include "node/node_parameters.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/scanning_run.h"
+#include "radar_ndt/ros/point_cloud2.h"
 #include "radar_ndt/ros/ros_time.h"
 #include "radar_ndt/se2.h"
 
@@ -42,28 +43,16 @@ double percentile(std::vector<double> v, double q) {
 
 void publishCloud(ros::Publisher& pub, const pcl::PointCloud<PointRadar>& cloud, std::int64_t t_us,
                   const std::string& frame) {
-  sensor_msgs::PointCloud2 m;
+  using F = sensor_msgs::PointField;
+  sensor_msgs::PointCloud2 m =
+      ros1::writeCloud({"x", "y", "z", "doppler"}, {F::FLOAT32, F::FLOAT32, F::FLOAT32, F::FLOAT32}, cloud.size(),
+                       [&cloud](std::size_t i, std::size_t k) {
+                         const PointRadar& p = cloud[i];
+                         return static_cast<double>(k == 0 ? p.x : k == 1 ? p.y : k == 2 ? p.z : p.doppler);
+                       });
   m.header.stamp = rosTime(t_us);
   m.header.frame_id = frame;
-  const char* names[] = {"x", "y", "z", "doppler"};
-  for (std::uint32_t k = 0; k < 4; ++k) {
-    sensor_msgs::PointField f;
-    f.name = names[k];
-    f.offset = 4 * k;
-    f.datatype = sensor_msgs::PointField::FLOAT32;
-    f.count = 1;
-    m.fields.push_back(f);
-  }
-  m.height = 1;
-  m.width = static_cast<std::uint32_t>(cloud.size());
-  m.point_step = 16;
-  m.row_step = 16 * m.width;
-  m.is_dense = true;
-  m.data.resize(m.row_step);
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const float v[4] = {cloud[i].x, cloud[i].y, cloud[i].z, cloud[i].doppler};
-    std::memcpy(&m.data[16 * i], v, sizeof v);
-  }
+  m.is_dense = true;  // every point's position is finite
   pub.publish(m);
 }
 
@@ -150,11 +139,11 @@ diagnostic_msgs::DiagnosticStatus CycleTiming::status(std::size_t count, const s
   return s;
 }
 
-void takeSignal(ros1::LiveVehicleSignals& signals, ros1::LiveVehicleSignals::Signal signal, TopicState& state,
-                std::int64_t t_us, double value, const std::string& what, const std::string& cycles) {
+void takeSignal(LiveVehicleSignals& signals, LiveVehicleSignals::Signal signal, TopicState& state, std::int64_t t_us,
+                double value, const std::string& what, const std::string& cycles) {
   const auto added = signals.add(signal, t_us, value);
-  if (added != ros1::LiveVehicleSignals::Added::NotFinite && added != ros1::LiveVehicleSignals::Added::Late) return;
-  const bool nan = added == ros1::LiveVehicleSignals::Added::NotFinite;
+  if (added != LiveVehicleSignals::Added::NotFinite && added != LiveVehicleSignals::Added::Late) return;
+  const bool nan = added == LiveVehicleSignals::Added::NotFinite;
   ++(nan ? state.malformed : state.late);
   state.problem(state.topic + (nan ? ": " + what + " that is not a number: left out"
                                    : ": a message older than the " + cycles + " already matched: left out"));

@@ -11,11 +11,11 @@
 #include <diagnostic_msgs/DiagnosticStatus.h>
 #include <ros/ros.h>
 
+#include "radar_ndt/io/live_vehicle_signals.h"
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/odometry/odometry_step.h"
 #include "radar_ndt/pipeline/run_settings.h"
 #include "radar_ndt/point_types.h"
-#include "radar_ndt/ros/live_vehicle_signals.h"
 
 namespace radar_ndt {
 namespace node {
@@ -57,8 +57,8 @@ struct TopicState {
 /// A sample of one of the car's signals (`what`: "a yaw rate") at `t_us` into `signals`, as the
 /// offline reader takes it; one that is not a number or older than what was already matched (the
 /// node's `cycles`) is counted on `state` and said.
-void takeSignal(ros1::LiveVehicleSignals& signals, ros1::LiveVehicleSignals::Signal signal, TopicState& state,
-                std::int64_t t_us, double value, const std::string& what, const std::string& cycles);
+void takeSignal(LiveVehicleSignals& signals, LiveVehicleSignals::Signal signal, TopicState& state, std::int64_t t_us,
+                double value, const std::string& what, const std::string& cycles);
 
 /// The latency (reference message received -> odometry published) and CPU of each cycle.
 struct CycleTiming {

@@ -3,7 +3,7 @@
 // bag reader decodes them) and runs each sweep, in stamp order, through the threshold and
 // odometry of the offline scanning run (ScanningStream). With ~odometry/gyro/enabled (the offline
 // --imu) it takes the description's IMU topic's yaw rate, each sweep held until the gyro has
-// reached past it (ros1::LiveVehicleSignals).
+// reached past it (LiveVehicleSignals).
 #include <algorithm>
 #include <deque>
 
@@ -13,8 +13,8 @@
 
 #include "node/node_common.h"
 #include "radar_ndt/evaluation/point_map.h"
+#include "radar_ndt/io/live_vehicle_signals.h"
 #include "radar_ndt/pipeline/scanning_run.h"
-#include "radar_ndt/ros/live_vehicle_signals.h"
 #include "radar_ndt/ros/rosbag_scans.h"
 #include "radar_ndt/se2.h"
 
@@ -47,7 +47,7 @@ class ScanningNode : public RadarNode {
     if (use_gyro_ && d_.imu_topic.empty())
       throw std::invalid_argument("~odometry/gyro/enabled: " + d_.source + " names no imu topic");
     offset_us_ = std::llround(options_.odometry.gyro.time_offset * 1e6);
-    yaw_ = ros1::LiveVehicleSignals(d_.imu_topic);
+    yaw_ = LiveVehicleSignals(d_.imu_topic);
     radar_state_ = TopicState(radar_.topic, radar_.name);
     imu_ = TopicState(d_.imu_topic, "imu", "not a number");
     restartOdometry();
@@ -90,8 +90,7 @@ class ScanningNode : public RadarNode {
     const std::int64_t t = stampOf(d_.stamps, msg.header.stamp);
     if (imu_.arrived(t)) restart(imu_, t);
     stream_us_ = std::max(stream_us_, t - offset_us_);
-    takeSignal(yaw_, ros1::LiveVehicleSignals::Signal::YawRate, imu_, t, msg.angular_velocity.z, "a yaw rate",
-               "sweeps");
+    takeSignal(yaw_, LiveVehicleSignals::Signal::YawRate, imu_, t, msg.angular_velocity.z, "a yaw rate", "sweeps");
     processReady(false);
   }
 
@@ -211,7 +210,7 @@ class ScanningNode : public RadarNode {
   TopicState radar_state_, imu_;
   bool use_gyro_ = false;
   std::int64_t offset_us_ = 0;           ///< the gyro's clock minus the radar's (odometry.gyro.time_offset)
-  ros1::LiveVehicleSignals yaw_;         ///< the gyro's yaw rate alone
+  LiveVehicleSignals yaw_;               ///< the gyro's yaw rate alone
   std::int64_t stream_us_ = -1;          ///< the newest message time seen, on the radar's clock
   std::int64_t last_taken_us_ = -1;      ///< the last sweep taken
   std::vector<std::int64_t> intervals_;  ///< between the sweeps taken since the start

@@ -13,6 +13,7 @@
 #include "bag_reading.h"
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/nuscenes_can_bus.h"
+#include "radar_ndt/ros/point_cloud2.h"
 #include "radar_ndt/ros/ros_time.h"
 
 namespace radar_ndt {
@@ -36,49 +37,13 @@ std::uint8_t datatypeOf(char type, std::size_t size, const std::string& path, co
                           " has no PointCloud2 datatype");
 }
 
-template <typename T>
-void put(std::uint8_t* p, double v) {
-  const T x = static_cast<T>(v);
-  std::memcpy(p, &x, sizeof(T));
-}
-
 /// The PCD's fields as a PointCloud2, packed in the file's field order, little-endian.
 sensor_msgs::PointCloud2 toCloud(const PcdTable& t, const std::string& path) {
-  sensor_msgs::PointCloud2 msg;
-  std::uint32_t offset = 0;
-  for (std::size_t c = 0; c < t.names.size(); ++c) {
-    sensor_msgs::PointField f;
-    f.name = t.names[c];
-    f.offset = offset;
-    f.datatype = datatypeOf(t.types[c], t.sizes[c], path, t.names[c]);
-    f.count = 1;
-    msg.fields.push_back(f);
-    offset += static_cast<std::uint32_t>(t.sizes[c]);
-  }
-  msg.height = 1;
-  msg.width = static_cast<std::uint32_t>(t.points);
-  msg.point_step = offset;
-  msg.row_step = offset * msg.width;
-  msg.is_bigendian = false;
-  msg.is_dense = false;
-  msg.data.assign(static_cast<std::size_t>(msg.row_step), 0);
-  using F = sensor_msgs::PointField;
-  for (std::size_t i = 0; i < t.points; ++i)
-    for (std::size_t c = 0; c < t.names.size(); ++c) {
-      std::uint8_t* p = msg.data.data() + i * offset + msg.fields[c].offset;
-      const double v = t.values[i * t.names.size() + c];
-      switch (msg.fields[c].datatype) {
-        case F::FLOAT32: put<float>(p, v); break;
-        case F::FLOAT64: put<double>(p, v); break;
-        case F::INT8: put<std::int8_t>(p, v); break;
-        case F::INT16: put<std::int16_t>(p, v); break;
-        case F::INT32: put<std::int32_t>(p, v); break;
-        case F::UINT8: put<std::uint8_t>(p, v); break;
-        case F::UINT16: put<std::uint16_t>(p, v); break;
-        default: put<std::uint32_t>(p, v); break;
-      }
-    }
-  return msg;
+  std::vector<std::uint8_t> types;
+  for (std::size_t c = 0; c < t.names.size(); ++c)
+    types.push_back(datatypeOf(t.types[c], t.sizes[c], path, t.names[c]));
+  return writeCloud(t.names, types, t.points,
+                    [&t](std::size_t i, std::size_t c) { return t.values[i * t.names.size() + c]; });
 }
 
 /// A transform with the tables' own quaternion (w x y z), so a reader normalising it as the

@@ -129,5 +129,56 @@ CloudColumns readCloudColumns(const sensor_msgs::PointCloud2& cloud, const std::
   return out;
 }
 
+namespace {
+
+template <typename T>
+void put(std::uint8_t* p, double v) {
+  const T x = static_cast<T>(v);
+  std::memcpy(p, &x, sizeof(T));
+}
+
+}  // namespace
+
+sensor_msgs::PointCloud2 writeCloud(const std::vector<std::string>& names, const std::vector<std::uint8_t>& types,
+                                    std::size_t points, const std::function<double(std::size_t, std::size_t)>& value) {
+  using F = sensor_msgs::PointField;
+  sensor_msgs::PointCloud2 msg;
+  std::uint32_t offset = 0;
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::size_t size = sizeOf(types[k]);
+    if (size == 0) throw std::invalid_argument("field '" + names[k] + "': unknown PointField datatype");
+    F f;
+    f.name = names[k];
+    f.offset = offset;
+    f.datatype = types[k];
+    f.count = 1;
+    msg.fields.push_back(f);
+    offset += static_cast<std::uint32_t>(size);
+  }
+  msg.height = 1;
+  msg.width = static_cast<std::uint32_t>(points);
+  msg.point_step = offset;
+  msg.row_step = offset * msg.width;
+  msg.is_bigendian = false;
+  msg.is_dense = false;
+  msg.data.assign(static_cast<std::size_t>(msg.row_step), 0);
+  for (std::size_t i = 0; i < points; ++i)
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      std::uint8_t* p = msg.data.data() + i * offset + msg.fields[k].offset;
+      const double v = value(i, k);
+      switch (types[k]) {
+        case F::FLOAT32: put<float>(p, v); break;
+        case F::FLOAT64: put<double>(p, v); break;
+        case F::INT8: put<std::int8_t>(p, v); break;
+        case F::INT16: put<std::int16_t>(p, v); break;
+        case F::INT32: put<std::int32_t>(p, v); break;
+        case F::UINT8: put<std::uint8_t>(p, v); break;
+        case F::UINT16: put<std::uint16_t>(p, v); break;
+        default: put<std::uint32_t>(p, v); break;
+      }
+    }
+  return msg;
+}
+
 }  // namespace ros1
 }  // namespace radar_ndt

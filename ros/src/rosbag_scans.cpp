@@ -80,6 +80,28 @@ struct RosbagScanSequence::Impl {
   BagReadStats stats;
   std::string no_gyro;
   mutable std::mutex read_lock;  ///< rosbag::Bag reads from one thread at a time
+
+  /// The sweeps read (`sweeps`: stamp and index into `read`) in stamp order, a repeated stamp's
+  /// second message left out and said; the period their median interval.
+  void keepInStampOrder(std::vector<std::pair<std::int64_t, std::size_t>> sweeps,
+                        const std::vector<rosbag::MessageInstance>& read, MotionTopics& motion) {
+    std::stable_sort(sweeps.begin(), sweeps.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [t, i] : sweeps) {
+      if (!stamps.empty() && t == stamps.back()) {
+        motion.log().add(topic + " (repeated stamps)",
+                         topic + ": a second message at " + std::to_string(t) + " us: left out");
+        continue;
+      }
+      stamps.push_back(t);
+      messages.push_back(read[i]);
+    }
+    std::vector<std::int64_t> intervals;
+    for (std::size_t k = 1; k < stamps.size(); ++k) intervals.push_back(stamps[k] - stamps[k - 1]);
+    if (!intervals.empty()) {
+      std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
+      period_us = intervals[intervals.size() / 2];
+    }
+  }
 };
 
 RosbagScanSequence::RosbagScanSequence(const std::string& bag_path, const SensorDescription& d)
@@ -136,23 +158,8 @@ RosbagScanSequence::RosbagScanSequence(const std::string& bag_path, const Sensor
   s.stats.imu_messages = motion.imuMessages();
   s.stats.ground_truth_poses = s.ground_truth.size();
   if (d.imu_topic.empty()) s.no_gyro = "--imu: " + d.source + " names no imu topic";
-  std::stable_sort(sweeps.begin(), sweeps.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& [t, i] : sweeps) {
-    if (!s.stamps.empty() && t == s.stamps.back()) {
-      motion.log().add(r.topic + " (repeated stamps)",
-                       r.topic + ": a second message at " + std::to_string(t) + " us: left out");
-      continue;
-    }
-    s.stamps.push_back(t);
-    s.messages.push_back(read[i]);
-  }
+  s.keepInStampOrder(std::move(sweeps), read, motion);
   for (const std::string& p : motion.log().finish()) s.problems.push_back(p);
-  std::vector<std::int64_t> intervals;
-  for (std::size_t k = 1; k < s.stamps.size(); ++k) intervals.push_back(s.stamps[k] - s.stamps[k - 1]);
-  if (!intervals.empty()) {
-    std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
-    s.period_us = intervals[intervals.size() / 2];
-  }
   // The azimuths' times spread over one turn: the described one, else the sweeps' interval.
   s.sweep_us = s.polar.sweep_period > 0 ? std::llround(s.polar.sweep_period * 1e6) : s.period_us;
 }

@@ -1,13 +1,13 @@
 // The ROS node's live inputs, planned as the offline run plans a whole recording: radar cycles as
-// sweeps arrive (ros1::LiveCycles) and the car's gyro and speed as their messages arrive
-// (ros1::LiveVehicleSignals).
+// sweeps arrive (LiveCycles) and the car's gyro and speed as their messages arrive
+// (LiveVehicleSignals).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "radar_ndt/ros/live_cycles.h"
-#include "radar_ndt/ros/live_vehicle_signals.h"
+#include "radar_ndt/io/live_cycles.h"
+#include "radar_ndt/io/live_vehicle_signals.h"
 
 using namespace radar_ndt;
 
@@ -24,20 +24,20 @@ RadarSweepData sweepAt(std::int64_t t_us, std::uint16_t channel) {
 // radars have moved past it (so a radar's sweep that comes after the reference's is not missed), a
 // silent radar not waited for, late and repeated sweeps refused, a reset for a bag played again.
 TEST(LiveCycles, PlansAsTheOfflinePlannerAsSweepsArrive) {
-  ros1::LiveCycles live(0, 100000);
-  EXPECT_EQ(live.add(sweepAt(1000000, 0)), ros1::LiveCycles::Added::Taken);
-  EXPECT_EQ(live.add(sweepAt(950000, 1)), ros1::LiveCycles::Added::Taken);
+  LiveCycles live(0, 100000);
+  EXPECT_EQ(live.add(sweepAt(1000000, 0)), LiveCycles::Added::Taken);
+  EXPECT_EQ(live.add(sweepAt(950000, 1)), LiveCycles::Added::Taken);
   EXPECT_FALSE(live.next()) << "radar 1 may still send a sweep up to t_ref";
-  EXPECT_EQ(live.add(sweepAt(990000, 1)), ros1::LiveCycles::Added::Taken);  // arrives after the reference's
+  EXPECT_EQ(live.add(sweepAt(990000, 1)), LiveCycles::Added::Taken);  // arrives after the reference's
   EXPECT_FALSE(live.next());
-  EXPECT_EQ(live.add(sweepAt(1030000, 1)), ros1::LiveCycles::Added::Taken);
+  EXPECT_EQ(live.add(sweepAt(1030000, 1)), LiveCycles::Added::Taken);
   auto c = live.next();
   ASSERT_TRUE(c);
   EXPECT_EQ(c->timestamp_us, 1000000);
   ASSERT_EQ(c->sweeps.size(), 2u);
   EXPECT_EQ(c->sweeps[1].timestamp_us, 990000) << "the latest within the period before";
-  EXPECT_EQ(live.add(sweepAt(995000, 1)), ros1::LiveCycles::Added::Late);
-  EXPECT_EQ(live.add(sweepAt(1030000, 1)), ros1::LiveCycles::Added::Repeated);
+  EXPECT_EQ(live.add(sweepAt(995000, 1)), LiveCycles::Added::Late);
+  EXPECT_EQ(live.add(sweepAt(1030000, 1)), LiveCycles::Added::Repeated);
   // Radar 1 falls silent: after a second of the stream the cycles go on without it.
   for (int k = 1; k <= 13; ++k) live.add(sweepAt(1000000 + 100000 * k, 0));
   std::size_t out = 0;
@@ -45,14 +45,14 @@ TEST(LiveCycles, PlansAsTheOfflinePlannerAsSweepsArrive) {
   EXPECT_GE(out, 1u);
   EXPECT_EQ(live.flush().size() + out, 13u);
   live.reset();
-  EXPECT_EQ(live.add(sweepAt(500000, 0)), ros1::LiveCycles::Added::Taken) << "after a reset, earlier times are taken";
+  EXPECT_EQ(live.add(sweepAt(500000, 0)), LiveCycles::Added::Taken) << "after a reset, earlier times are taken";
 }
 
 // The start of a stream (or of a bag played again): the expected radars are waited for before
 // they have spoken, so the first cycle holds the sweep a radar whose message arrives last sent
 // before the reference's; an expected radar that never speaks holds the cycles for a second.
 TEST(LiveCycles, TheFirstCyclesWaitForEveryExpectedRadar) {
-  ros1::LiveCycles live(0, 100000, {0, 1, 2});
+  LiveCycles live(0, 100000, {0, 1, 2});
   live.add(sweepAt(990000, 1));
   live.add(sweepAt(1000000, 0));
   live.add(sweepAt(1010000, 1));
@@ -64,7 +64,7 @@ TEST(LiveCycles, TheFirstCyclesWaitForEveryExpectedRadar) {
   ASSERT_TRUE(c);
   EXPECT_EQ(c->sweeps.size(), 3u) << "the late speaker's sweep is in the first cycle";
   // An expected radar that never speaks: the cycles go on after a second of the stream.
-  ros1::LiveCycles silent(0, 100000, {0, 1, 2});
+  LiveCycles silent(0, 100000, {0, 1, 2});
   for (int k = 0; k <= 9; ++k) {
     silent.add(sweepAt(1000000 + 100000 * k, 0));
     silent.add(sweepAt(1010000 + 100000 * k, 1));
@@ -79,9 +79,9 @@ TEST(LiveCycles, TheFirstCyclesWaitForEveryExpectedRadar) {
 // or after its time has arrived (or the gyro is a second of the stream silent), integrals equal to
 // the whole series', late samples refused once their interval has been integrated.
 TEST(LiveVehicleSignals, GrowAsTheOfflineSeriesAndReleaseACycleOnceReached) {
-  using Signal = ros1::LiveVehicleSignals::Signal;
+  using Signal = LiveVehicleSignals::Signal;
   const Signal yaw = Signal::YawRate;
-  ros1::LiveVehicleSignals live("/imu");
+  LiveVehicleSignals live("/imu");
   TimeSeries offline;
   const std::vector<std::pair<std::int64_t, double>> arrivals{{0, 0.10},    {10000, 0.12}, {30000, 0.20}, {20000, 0.15},
                                                               {30000, 9.0}, {40000, 0.25}, {50000, 0.30}};
@@ -94,7 +94,7 @@ TEST(LiveVehicleSignals, GrowAsTheOfflineSeriesAndReleaseACycleOnceReached) {
   const TimeSeries& s = live.signals()->yaw_rate;
   EXPECT_EQ(s.stamps_us, offline.stamps_us) << "out of order to its place, the repeated stamp's first value";
   EXPECT_EQ(s.values, offline.values);
-  EXPECT_EQ(live.add(yaw, 60000, std::nan("")), ros1::LiveVehicleSignals::Added::NotFinite);
+  EXPECT_EQ(live.add(yaw, 60000, std::nan("")), LiveVehicleSignals::Added::NotFinite);
   EXPECT_EQ(live.signals()->dropped, 1u);
   // A cycle ending at 45 ms is reached (50 ms is there); one at 55 ms not, until the gyro is silent
   // for a second of the stream.
@@ -108,19 +108,19 @@ TEST(LiveVehicleSignals, GrowAsTheOfflineSeriesAndReleaseACycleOnceReached) {
   live.used(25000);
   EXPECT_EQ(s.stamps_us.front(), 20000) << "the last sample at or before 25 ms is kept for the interpolation";
   EXPECT_DOUBLE_EQ(s.integral(25000, 47000), offline.integral(25000, 47000));
-  EXPECT_EQ(live.add(yaw, 24000, 1.0), ros1::LiveVehicleSignals::Added::Late);
-  EXPECT_EQ(live.add(yaw, 26000, 0.21), ros1::LiveVehicleSignals::Added::Taken) << "after the integrated time: taken";
+  EXPECT_EQ(live.add(yaw, 24000, 1.0), LiveVehicleSignals::Added::Late);
+  EXPECT_EQ(live.add(yaw, 26000, 0.21), LiveVehicleSignals::Added::Taken) << "after the integrated time: taken";
   live.reset();
   EXPECT_TRUE(live.signals()->yaw_rate.empty());
-  EXPECT_EQ(live.add(yaw, 0, 0.1), ros1::LiveVehicleSignals::Added::Taken) << "after a reset, earlier times are taken";
+  EXPECT_EQ(live.add(yaw, 0, 0.1), LiveVehicleSignals::Added::Taken) << "after a reset, earlier times are taken";
   EXPECT_FALSE(live.reaches(1000, 1000));
 }
 
 // With the speed in use too, a cycle waits for both signals; each is forgotten and refused late as
 // the yaw rate is, and a silent one stops being waited for after a second of the stream.
 TEST(LiveVehicleSignals, ACycleWaitsForEverySignalInUse) {
-  using Signal = ros1::LiveVehicleSignals::Signal;
-  ros1::LiveVehicleSignals live("/imu", {Signal::YawRate, Signal::Speed});
+  using Signal = LiveVehicleSignals::Signal;
+  LiveVehicleSignals live("/imu", {Signal::YawRate, Signal::Speed});
   for (std::int64_t t = 0; t <= 50000; t += 10000) live.add(Signal::YawRate, t, 0.1);
   live.add(Signal::Speed, 0, 5.0);
   live.add(Signal::Speed, 20000, 6.0);
@@ -133,6 +133,6 @@ TEST(LiveVehicleSignals, ACycleWaitsForEverySignalInUse) {
   live.used(30000);
   EXPECT_EQ(live.signals()->speed.stamps_us.front(), 20000);
   EXPECT_EQ(live.signals()->yaw_rate.stamps_us.front(), 30000);
-  EXPECT_EQ(live.add(Signal::Speed, 25000, 1.0), ros1::LiveVehicleSignals::Added::Late);
-  EXPECT_EQ(live.add(Signal::Speed, 50000, std::nan("")), ros1::LiveVehicleSignals::Added::NotFinite);
+  EXPECT_EQ(live.add(Signal::Speed, 25000, 1.0), LiveVehicleSignals::Added::Late);
+  EXPECT_EQ(live.add(Signal::Speed, 50000, std::nan("")), LiveVehicleSignals::Added::NotFinite);
 }

@@ -1,8 +1,11 @@
 #pragma once
 // A sensor_msgs/PointCloud2's fields read by name, as the table of doubles the radar point
 // conversion takes (radar_ndt/io/radar_point_fields.h): any field order, offsets and datatype,
-// either byte order, organised or not. A malformed message is an error saying what is wrong.
+// either byte order, organised or not. A malformed message is an error saying what is wrong. And
+// the one writer of clouds (a nuScenes scene's bag, the node's maps).
 
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,6 +27,12 @@ CloudColumns readCloudColumns(const sensor_msgs::PointCloud2& cloud, const std::
 
 /// "x, y, z, intensity": the message's field names, for messages.
 std::string fieldNames(const sensor_msgs::PointCloud2& cloud);
+
+/// A cloud of `points` points in one row, little-endian, its fields packed in order: field k named
+/// names[k], of PointField datatype types[k], point i's value value(i, k) converted to it (as a
+/// static_cast from double). std::invalid_argument for an unknown datatype.
+sensor_msgs::PointCloud2 writeCloud(const std::vector<std::string>& names, const std::vector<std::uint8_t>& types,
+                                    std::size_t points, const std::function<double(std::size_t, std::size_t)>& value);
 
 }  // namespace ros1
 }  // namespace radar_ndt

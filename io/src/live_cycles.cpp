@@ -1,9 +1,8 @@
-#include "radar_ndt/ros/live_cycles.h"
+#include "radar_ndt/io/live_cycles.h"
 
 #include <algorithm>
 
 namespace radar_ndt {
-namespace ros1 {
 
 std::int64_t LiveCycles::periodUs() const {
   if (fixed_period_us_ > 0) return fixed_period_us_;
@@ -99,5 +98,4 @@ void LiveCycles::reset() {
   last_reference_us_ = last_out_us_ = first_us_ = -1;
 }
 
-}  // namespace ros1
 }  // namespace radar_ndt

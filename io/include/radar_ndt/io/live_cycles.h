@@ -16,7 +16,6 @@
 #include "radar_ndt/io/radar_cycle.h"
 
 namespace radar_ndt {
-namespace ros1 {
 
 class LiveCycles {
  public:
@@ -57,5 +56,4 @@ class LiveCycles {
   std::int64_t first_us_ = -1;  ///< the first sweep's time since the start (or reset)
 };
 
-}  // namespace ros1
 }  // namespace radar_ndt

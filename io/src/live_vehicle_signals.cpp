@@ -1,11 +1,10 @@
-#include "radar_ndt/ros/live_vehicle_signals.h"
+#include "radar_ndt/io/live_vehicle_signals.h"
 
 #include <algorithm>
 #include <cmath>
 #include <iterator>
 
 namespace radar_ndt {
-namespace ros1 {
 
 LiveVehicleSignals::LiveVehicleSignals(std::string source, std::vector<Signal> in_use)
     : source_(std::move(source)), in_use_(std::move(in_use)) {
@@ -58,5 +57,4 @@ void LiveVehicleSignals::used(std::int64_t t_us) {
   }
 }
 
-}  // namespace ros1
 }  // namespace radar_ndt

@@ -16,7 +16,6 @@
 #include "radar_ndt/io/vehicle_signals.h"
 
 namespace radar_ndt {
-namespace ros1 {
 
 class LiveVehicleSignals {
  public:
@@ -56,5 +55,4 @@ class LiveVehicleSignals {
   std::int64_t used_us_ = std::numeric_limits<std::int64_t>::min();
 };
 
-}  // namespace ros1
 }  // namespace radar_ndt

@@ -11,18 +11,15 @@
 #include <boost/program_options.hpp>
 #include <pcl/console/print.h>
 
+#include "radar_ndt/statistics.h"
+
 namespace radar_ndt {
 namespace apps {
 
 namespace po = boost::program_options;
 
 /// The median of `v` (the mean of the middle two for an even count; 0 for none), as the apps print.
-inline double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+using radar_ndt::median;  // radar_ndt/statistics.h
 
 /// Parses argv against `options`. Prints help (exit 0) for -h/--help, or one error line (exit 1)
 /// for unknown options and malformed values. Returns -1 when the app should go on.

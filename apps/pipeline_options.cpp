@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "field_options.h"
+#include "radar_ndt/io/dataset_format.h"
 
 namespace radar_ndt {
 namespace apps {
@@ -129,9 +130,11 @@ void refuseUnused(const po::variables_map& vm, const std::vector<FieldOption<R>>
 }  // namespace
 
 Pipeline pipelineOf(const std::string& format) {
-  if (format == "nuscenes" || format == "rosbag") return Pipeline::Automotive;
-  if (format == "oxford" || format == "radiate" || format == "boreas") return Pipeline::Scanning;
-  throw std::invalid_argument("--format " + format + " is not supported (nuscenes, rosbag, oxford, radiate, boreas)");
+  try {
+    return isScanLayout(parseEnum<DatasetFormat>(format)) ? Pipeline::Scanning : Pipeline::Automotive;
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("--format " + format + ": " + e.what());
+  }
 }
 
 std::string pipelineOptionsMarkdown() {

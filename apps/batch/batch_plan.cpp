@@ -1,4 +1,5 @@
 #include "batch_plan.h"
+#include "radar_ndt/io/dataset_format.h"
 
 #include <fnmatch.h>
 
@@ -36,9 +37,10 @@ std::vector<std::string> splitList(const std::string& text, char sep) {
 /// Whether `dir` is laid out as `format`'s reader wants a sequence.
 bool isSequence(const std::string& format, const fs::path& dir) {
   std::error_code ec;
-  if (format == "oxford") return fs::is_regular_file(dir / "radar.timestamps", ec);
-  if (format == "radiate") return fs::is_regular_file(dir / "Navtech_Polar.txt", ec);
-  if (format == "boreas") {
+  const DatasetFormat f = parseEnum<DatasetFormat>(format);
+  if (f == DatasetFormat::Oxford) return fs::is_regular_file(dir / "radar.timestamps", ec);
+  if (f == DatasetFormat::Radiate) return fs::is_regular_file(dir / "Navtech_Polar.txt", ec);
+  if (f == DatasetFormat::Boreas) {
     if (!fs::is_directory(dir / "radar", ec)) return false;
     for (const auto& e : fs::directory_iterator(dir / "radar", ec))
       if (e.path().extension() == ".png") return true;
@@ -87,10 +89,11 @@ SettingAxis parseSettingAxis(const std::string& text) {
 std::vector<Sequence> findSequences(const std::string& format, const std::string& root,
                                     const std::vector<std::string>& names, const std::string& glob) {
   std::vector<Sequence> found;
-  if (format == "nuscenes") {
+  const DatasetFormat f = parseEnum<DatasetFormat>(format);
+  if (f == DatasetFormat::NuScenes) {
     const NuScenesDataset dataset(root);
     for (const auto& s : dataset.scenes()) found.push_back({s.name, fs::absolute(root).lexically_normal().string()});
-  } else if (format == "rosbag") {
+  } else if (f == DatasetFormat::Rosbag) {
     // A bag, or every *.bag of a folder (not its subfolders): a sequence each, named by its stem.
     std::error_code ec;
     const fs::path r = fs::absolute(root).lexically_normal();
@@ -102,7 +105,7 @@ std::vector<Sequence> findSequences(const std::string& format, const std::string
         if (e.is_regular_file() && e.path().extension() == ".bag")
           found.push_back({e.path().stem().string(), e.path().string()});
     }
-  } else if (format == "oxford" || format == "radiate" || format == "boreas") {
+  } else {  // a scanning radar's sequence folders
     std::error_code ec;
     if (!fs::is_directory(root, ec)) throw IoError(root, "is not a folder");
     const fs::path r = fs::absolute(root).lexically_normal();
@@ -111,8 +114,6 @@ std::vector<Sequence> findSequences(const std::string& format, const std::string
     for (const auto& e : fs::directory_iterator(r, ec))
       if (e.is_directory() && isSequence(format, e.path()))
         found.push_back({e.path().filename().string(), e.path().string()});
-  } else {
-    throw std::invalid_argument("--format " + format + " is not supported (nuscenes, rosbag, oxford, radiate, boreas)");
   }
   std::sort(found.begin(), found.end(), [](const Sequence& a, const Sequence& b) { return a.name < b.name; });
   if (!names.empty()) {

@@ -37,7 +37,7 @@ double mean(const std::vector<double>& v) {
 }
 
 double median(const std::vector<double>& v) {
-  return v.empty() ? kNone : apps::median(v);
+  return radar_ndt::median(v, kNone);
 }
 
 std::string escapeXml(const std::string& s) {

@@ -18,6 +18,7 @@
 #include "radar_ndt/odometry/matcher_registry.h"
 #include "radar_ndt/registration/weighted_ndt_2d.h"
 #include "radar_ndt/se2.h"
+#include "radar_ndt/statistics.h"
 
 namespace radar_ndt {
 namespace apps {
@@ -87,12 +88,9 @@ int benchNuScenes(const std::string& dataroot, std::size_t stride, bool json) {
       et += e.head<2>().norm();
       er += std::abs(e.z()) * 180.0 / kPi;
     }
-    std::nth_element(ms.begin(), ms.begin() + static_cast<std::ptrdiff_t>(ms.size() / 2), ms.end());
     const double n = static_cast<double>(std::max<std::size_t>(pairs.size(), 1));
-    j["methods"][m] = {
-        {"ms_median", ms.empty() ? 0.0 : ms[ms.size() / 2]}, {"trans_err_m", et / n}, {"rot_err_deg", er / n}};
-    if (!json)
-      std::printf("%-10s %10.3f %14.4f %14.4f\n", m.c_str(), ms.empty() ? 0.0 : ms[ms.size() / 2], et / n, er / n);
+    j["methods"][m] = {{"ms_median", median(ms)}, {"trans_err_m", et / n}, {"rot_err_deg", er / n}};
+    if (!json) std::printf("%-10s %10.3f %14.4f %14.4f\n", m.c_str(), median(ms), et / n, er / n);
   }
   if (json) std::cout << j.dump(2) << std::endl;
   return 0;
@@ -105,12 +103,6 @@ struct FrontEndFigures {
   std::vector<double> points, ms_front, ms_match;
   double et = 0, er = 0;
 };
-
-/// The upper median.
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
 
 FrontEndFigures frontEndFigures(const std::string& dir, const std::vector<OxfordStamp>& stamps,
                                 const std::function<Pose2(std::size_t)>& truth, bool cartesian) {

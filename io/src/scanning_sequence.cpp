@@ -1,4 +1,5 @@
 #include "radar_ndt/io/scanning_sequence.h"
+
 #include "radar_ndt/io/boreas_ground_truth.h"
 #include "radar_ndt/io/boreas_imu.h"
 #include "radar_ndt/io/boreas_scan.h"
@@ -6,6 +7,7 @@
 #include "radar_ndt/io/oxford_scan.h"
 #include "radar_ndt/io/polar_scan.h"
 #include "radar_ndt/io/radiate_scan.h"
+#include "radar_ndt/statistics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -30,11 +32,6 @@ std::string baseName(std::string dir) {
   return slash == std::string::npos ? dir : dir.substr(slash + 1);
 }
 /// The upper median (0 for no values).
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
 }  // namespace
 
 void ScanningSequenceOptions::validate() const {

@@ -9,6 +9,7 @@
 #include "keywords.h"
 #include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/evaluation/run_report.h"
+#include "radar_ndt/io/dataset_format.h"
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/odometry_run.h"
@@ -214,8 +215,7 @@ void bindRunFunctions(py::module_& m) {
   m.def(
       "run_scanning",
       [](const std::filesystem::path& path, const std::string& format, const py::kwargs& kw) {
-        if (format == "rosbag" || format == "nuscenes" ||
-            !(format == "oxford" || format == "radiate" || format == "boreas"))
+        if (!isScanLayout(parseEnum<DatasetFormat>(format)))
           throw std::invalid_argument("format '" + format + "' is not a scanning layout (oxford, radiate, boreas)");
         return runScanning(*openSource(RunSource{format, path.string(), "", "", ""}, kw));
       },

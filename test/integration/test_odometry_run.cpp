@@ -113,15 +113,21 @@ TEST(OdometryRun, TheStreamOfCyclesGivesTheOfflineRunsSteps) {
 
 TEST(RunSettings, ASettingThePipelineDoesNotUseIsRefusedWithWhy) {
   SettingError::Why why{};
-  std::string text = refusal([] { automotiveRunOptions({{"front_end.threshold", FieldValue(0.3), "--threshold"}}); },
-                             &why);
+  std::string text = refusal(
+      [] {
+        automotiveRunOptions({{"front_end.threshold", FieldValue(0.3), "--threshold"}});
+      },
+      &why);
   EXPECT_EQ(why, SettingError::Why::OtherPipeline) << text;
   EXPECT_NE(text.find("--threshold"), std::string::npos) << text;
   text = refusal([] { automotiveRunOptions({{"odometry.fuse_dopler", FieldValue(true), ""}}); }, &why);
   EXPECT_EQ(why, SettingError::Why::NoSuchSetting) << text;
   EXPECT_NE(text.find("fuse_doppler"), std::string::npos) << "the fields beside it: " << text;
-  text = refusal([] { scanningRunOptions({{"sequence.boreas.range_resolution", FieldValue(0.05), ""}}, "oxford"); },
-                 &why);
+  text = refusal(
+      [] {
+        scanningRunOptions({{"sequence.boreas.range_resolution", FieldValue(0.05), ""}}, "oxford");
+      },
+      &why);
   EXPECT_EQ(why, SettingError::Why::NotThisLayout) << text;
   text = refusal([] { automotiveRunOptions({{"matcher.grid", FieldValue("four"), ""}}); }, &why);
   EXPECT_EQ(why, SettingError::Why::Type) << text;
@@ -130,7 +136,8 @@ TEST(RunSettings, ASettingThePipelineDoesNotUseIsRefusedWithWhy) {
   // The method sets what it needs; a given setting that contradicts it is refused by validate().
   EXPECT_TRUE(automotiveRunOptions({{"matcher.method", FieldValue("rapp-ndt"), ""}}).odometry.doppler_weights);
   text = refusal([] {
-    automotiveRunOptions({{"matcher.method", FieldValue("rapp-ndt"), ""}, {"front_end.remove_moving", FieldValue(true), ""}});
+    automotiveRunOptions(
+        {{"matcher.method", FieldValue("rapp-ndt"), ""}, {"front_end.remove_moving", FieldValue(true), ""}});
   });
   EXPECT_NE(text.find("remove_moving"), std::string::npos) << text;
   // The paper's mode is not fused, unless the fusion is given.

@@ -5,6 +5,8 @@
 #include <chrono>
 #include <vector>
 
+#include "radar_ndt/statistics.h"
+
 namespace radar_ndt {
 namespace detail {
 
@@ -18,11 +20,7 @@ inline double msSince(Clock::time_point t0) {
 }
 
 /// The upper median (0 for no values).
-inline double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
+using radar_ndt::median;  // radar_ndt/statistics.h: 0 for no samples
 
 }  // namespace detail
 }  // namespace radar_ndt

@@ -6,6 +6,7 @@
 
 #include "detail/run_timing.h"
 #include "pipeline/ordered_pipeline.h"
+#include "radar_ndt/io/dataset_format.h"
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/recording.h"
 #include "radar_ndt/io/scanning_sequence.h"
@@ -14,15 +15,13 @@
 namespace radar_ndt {
 
 std::string runFormats() {
-  return "nuscenes, rosbag, oxford, radiate, boreas";
+  return enumChoices<DatasetFormat>();
 }
 
 PipelineKind pipelineOf(const RunSource& source) {
-  if (source.format == "nuscenes") return PipelineKind::Automotive;
-  if (source.format == "oxford" || source.format == "radiate" || source.format == "boreas")
-    return PipelineKind::Scanning;
-  if (source.format != "rosbag")
-    throw std::invalid_argument("format '" + source.format + "' is not supported (" + runFormats() + ")");
+  const DatasetFormat f = parseEnum<DatasetFormat>(source.format);
+  if (f == DatasetFormat::NuScenes) return PipelineKind::Automotive;
+  if (isScanLayout(f)) return PipelineKind::Scanning;
   if (source.sensors.empty())
     throw std::invalid_argument("format rosbag needs a sensor description (a YAML file, or preset:NAME)");
   const SensorDescription d = readSensorDescription(source.sensors);
@@ -43,17 +42,7 @@ struct OdometryRun::Impl {
   SensorDescription description;                     ///< rosbag
 };
 
-namespace {
-
-bool isScanningLayout(const std::string& format) {
-  return format == "oxford" || format == "radiate" || format == "boreas";
-}
-
-[[noreturn]] void unknownFormat(const std::string& format) {
-  throw std::invalid_argument("format '" + format + "' is not supported (" + runFormats() + ")");
-}
-
-}  // namespace
+namespace {}  // namespace
 
 SensorDescription describedSensors(SensorDescription d, const AutomotiveRunOptions& o, const Settings& given) {
   for (const char* list : {"sequence.filter.invalid_states", "sequence.filter.dyn_props",
@@ -131,25 +120,25 @@ OdometryRun::OdometryRun(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 OdometryRun::OdometryRun(const RunSource& source, const Settings& given) : impl_(std::make_unique<Impl>()) {
   Impl& r = *impl_;
   r.source = source;
-  if (source.format == "nuscenes") {
+  const DatasetFormat format = parseEnum<DatasetFormat>(source.format);
+  if (format == DatasetFormat::NuScenes) {
     if (source.scene.empty() || source.scene == "all")
       throw std::invalid_argument("one run is one scene: name it (OdometryRun::openAll opens every scene)");
     r.automotive = automotiveRunOptions(given);
     r.dataset = std::make_shared<const NuScenesDataset>(source.path, source.version);
     r.scene = &r.dataset->scene(source.scene);
     r.name = r.scene->name;
-  } else if (source.format == "rosbag") {
+  } else if (format == DatasetFormat::Rosbag) {
     openRecording(r, given);
-  } else if (isScanningLayout(source.format)) {
-    openSequence(r, given);
   } else {
-    unknownFormat(source.format);
+    openSequence(r, given);
   }
 }
 
 std::vector<OdometryRun> OdometryRun::openAll(const RunSource& source, const Settings& given) {
   std::vector<OdometryRun> runs;
-  if (source.format != "nuscenes" || !(source.scene.empty() || source.scene == "all")) {
+  if (parseEnum<DatasetFormat>(source.format) != DatasetFormat::NuScenes ||
+      !(source.scene.empty() || source.scene == "all")) {
     runs.emplace_back(source, given);
     return runs;
   }

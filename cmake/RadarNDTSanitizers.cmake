@@ -1,8 +1,10 @@
 # Sanitizer and fuzzing builds, for every target of the project (not for the installed package).
 #
 # RADAR_NDT_SANITIZE=ON: AddressSanitizer + UndefinedBehaviorSanitizer, any UB report is fatal
-#   (-fno-sanitize-recover), -O1 -g so reports have usable stacks. The README's test command builds
-#   this configuration in build-asan and runs the whole suite in it.
+#   (-fno-sanitize-recover), -O1 -g1 so reports have usable stacks (file and line: -g1's line tables;
+#   full -g costs a quarter more compile time for no better report). The README's test command
+#   builds this configuration in build-asan and runs the suite in it (docs/testing.md says which tests
+#   it leaves out).
 # RADAR_NDT_FUZZ=ON (clang only): the libraries are compiled with -fsanitize=fuzzer-no-link plus ASan
 #   and UBSan so libFuzzer sees their coverage; the fuzz targets in test/fuzz/ link -fsanitize=fuzzer.
 # Eigen switches to its own ("handmade") aligned allocator when it sees __SANITIZE_ADDRESS__, while
@@ -10,7 +12,7 @@
 # one side allocates and the other frees (PCL's NDT destroyed in our code) would be freed with the
 # wrong allocator. EIGEN_MALLOC_ALREADY_ALIGNED=1 keeps our code on PCL's allocator (x86-64 malloc,
 # ASan's included, returns 16-byte aligned memory).
-set(_radar_ndt_san_flags -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer -O1 -g
+set(_radar_ndt_san_flags -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer -O1 -g1
                          -DEIGEN_MALLOC_ALREADY_ALIGNED=1)
 if(RADAR_NDT_FUZZ)
   if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")

@@ -115,7 +115,9 @@ run_rev() {
 
   echo "[$id] paper tables" >&2
   local tables
-  if [ -x "$bin/radar_paper_tables" ]; then tables=("$bin/radar_paper_tables"); else tables=("$bin/radar_odometry" --table); fi
+  if [ -x "$bld/benchmarks/radar_paper_tables" ]; then tables=("$bld/benchmarks/radar_paper_tables")
+  elif [ -x "$bin/radar_paper_tables" ]; then tables=("$bin/radar_paper_tables")  # before benchmarks/
+  else tables=("$bin/radar_odometry" --table); fi
   "${tables[@]}" --format nuscenes --dataroot "$data/nuscenes-mini-radar" --json -q >"$out/table_nuscenes.raw.json"
   "${tables[@]}" --format oxford --sequence "$seq" --json -q >"$out/table_oxford.raw.json"
   touch "$out/.complete"

@@ -5,4 +5,4 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 tool=${1:-clang-format}
 cd "$root"
-find apps core io python radar_ndt registration ros sim test \( -name '*.cpp' -o -name '*.h' -o -name '*.hpp' \) -print0 | xargs -0 "$tool" -i
+find apps benchmarks core io python radar_ndt registration ros sim test \( -name '*.cpp' -o -name '*.h' -o -name '*.hpp' \) -print0 | xargs -0 "$tool" -i

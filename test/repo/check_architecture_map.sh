@@ -25,7 +25,7 @@ while IFS= read -r path; do
   fi
 done < <(grep -o '`[A-Za-z0-9_./-]*/[A-Za-z0-9_./-]*`' "$map" | tr -d '`' | grep -E '(\.(h|hpp|cpp|md|sh|cmake|in|txt|py)|/)$' | sort -u)
 echo "docs/architecture.md: $checked paths checked, $missing missing"
-uses=$(grep -rlw 'M_PI' --include='*.h' --include='*.hpp' --include='*.cpp' "$root/radar_ndt" "$root/registration" "$root/io" "$root/apps" "$root/test" 2>/dev/null)
+uses=$(grep -rlw 'M_PI' --include='*.h' --include='*.hpp' --include='*.cpp' "$root/radar_ndt" "$root/registration" "$root/io" "$root/apps" "$root/benchmarks" "$root/test" 2>/dev/null)
 if [ -n "$uses" ]; then
   echo "M_PI (not standard C++; use radar_ndt::kPi) in: $uses"
   missing=$((missing + 1))

@@ -8,7 +8,7 @@ root=${1:?usage: check_format.sh REPO_ROOT [CLANG_FORMAT]}
 tool=${2:-clang-format}
 command -v "$tool" >/dev/null 2>&1 || { echo "check_format: $tool not found (.ci/deps installs Debian's clang-format)"; exit 1; }
 [ -f "$root/.clang-format" ] || { echo "check_format: $root/.clang-format is missing"; exit 1; }
-mapfile -d '' files < <(cd "$root" && find apps core io python radar_ndt registration ros sim test \
+mapfile -d '' files < <(cd "$root" && find apps benchmarks core io python radar_ndt registration ros sim test \
   \( -name '*.cpp' -o -name '*.h' -o -name '*.hpp' \) -print0 | sort -z)
 [ ${#files[@]} -gt 0 ] || { echo "check_format: no sources found under $root"; exit 1; }
 bad=0

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The layers, read from the folders: no folder includes a header of a higher one.
 
-    core  <  io, registration  <  radar_ndt  <  sim  <  apps, python, test;  core  <  io  <  ros  <  apps
+    core  <  io, registration  <  radar_ndt  <  sim  <  apps, benchmarks, python, test;  core  <  io  <  ros  <  apps, benchmarks
 
 and inside radar_ndt/: frontend < odometry < pipeline < evaluation. io and registration are
 beside each other and include neither the other. Every header is found by where it lives
@@ -28,6 +28,7 @@ ALLOWED = {
     "ros": {"core", "io"},
     "python": {"core", "io", "registration", "radar_ndt", "ros"},
     "apps": {"core", "io", "registration", "radar_ndt", "sim", "ros"},
+    "benchmarks": {"core", "io", "registration", "radar_ndt", "sim", "ros"},
 }
 # The stages inside radar_ndt/, lowest first: a stage includes only its own and lower ones.
 STAGES = ["frontend", "odometry", "pipeline", "evaluation"]

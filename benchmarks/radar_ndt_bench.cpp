@@ -1,13 +1,13 @@
 // radar_ndt_bench: times and scores WeightedNDT2D against PCL's NDT, NDT2D and ICP on the same
 // synthetic radar-like scan pairs with known transforms (identity initial guess); --nuscenes: the
 // registered matchers on real automotive submap pairs; --oxford: the scanning front-end's two paths
-// on a scan sequence (bench/ndt_bench.h).
+// on a scan sequence (ndt_bench/ndt_bench.h).
 #include <algorithm>
 #include <sstream>
 #include <string>
 
 #include "app_common.h"
-#include "bench/ndt_bench.h"
+#include "ndt_bench/ndt_bench.h"
 
 using namespace radar_ndt;
 namespace po = boost::program_options;

@@ -1,4 +1,4 @@
-// radar_ndt_bench on real data (bench/ndt_bench.h): the registered matchers on nuScenes submap
+// radar_ndt_bench on real data (ndt_bench/ndt_bench.h): the registered matchers on nuScenes submap
 // pairs, and the scanning front-end's two paths on an Oxford-layout sequence.
 #include <algorithm>
 #include <chrono>
@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/ndt_bench.h"
+#include "ndt_bench/ndt_bench.h"
 #include "radar_ndt/frontend/automotive_front_end.h"
 #include "radar_ndt/frontend/power_threshold.h"
 #include "radar_ndt/frontend/probabilistic_submap.h"

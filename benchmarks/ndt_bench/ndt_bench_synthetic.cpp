@@ -1,4 +1,4 @@
-// radar_ndt_bench's synthetic benchmark (bench/ndt_bench.h): WeightedNDT2D against PCL's NDT, NDT2D
+// radar_ndt_bench's synthetic benchmark (ndt_bench/ndt_bench.h): WeightedNDT2D against PCL's NDT, NDT2D
 // and ICP on the same synthetic radar-like scan pairs with known transforms (identity initial
 // guess), single thread. Time = setInputSource + setInputTarget + align.
 #include <algorithm>
@@ -14,7 +14,7 @@
 #include <pcl/registration/ndt_2d.h>
 
 #include "app_common.h"
-#include "bench/ndt_bench.h"
+#include "ndt_bench/ndt_bench.h"
 #include "radar_ndt/odometry/matcher.h"
 #include "radar_ndt/registration/weighted_ndt_2d.h"
 #include "radar_ndt/se2.h"

@@ -41,6 +41,53 @@ struct EIGEN_ALIGN16 PointRadar {
   PCL_MAKE_ALIGNED_OPERATOR_NEW
 };
 
+/// One detection of a 4D radar (x, y, z, Doppler, power): PointRadar's fields with a full 3x3
+/// position covariance, since a 4D radar's elevation is far coarser than its range. Its own type,
+/// so PointRadar (and every planar file written from it) keeps its layout.
+struct EIGEN_ALIGN16 PointRadar4D {
+  PCL_ADD_POINT4D;  // x, y, z (m) and padding; frame given by the producer (sensor or vehicle)
+  /// Weight source of eq. (1)-(2): the detection's power (or SNR) as the description maps it.
+  float power;
+  /// Radar cross section (dBsm); 0 when unknown.
+  float rcs;
+  /// 3x3 position covariance (m^2), upper triangle, in the same frame as x, y, z.
+  float cov_xx;
+  float cov_xy;
+  float cov_xz;
+  float cov_yy;
+  float cov_yz;
+  float cov_zz;
+  /// Radial velocity relative to the sensor (m/s), positive when the target recedes.
+  float doppler;
+  /// Time of the measurement relative to the scan's reference time (s).
+  float time_offset;
+  /// Which sensor produced the point.
+  std::uint16_t sensor_id;
+
+  inline PointRadar4D()
+      : power(1.f),
+        rcs(0.f),
+        cov_xx(0.f),
+        cov_xy(0.f),
+        cov_xz(0.f),
+        cov_yy(0.f),
+        cov_yz(0.f),
+        cov_zz(0.f),
+        doppler(0.f),
+        time_offset(0.f),
+        sensor_id(0) {
+    x = y = z = 0.f;
+    data[3] = 1.f;
+  }
+  inline PointRadar4D(float px, float py, float pz, float p = 1.f) : PointRadar4D() {
+    x = px;
+    y = py;
+    z = pz;
+    power = p;
+  }
+  PCL_MAKE_ALIGNED_OPERATOR_NEW
+};
+
 }  // namespace radar_ndt
 
 // clang-format off
@@ -53,6 +100,22 @@ POINT_CLOUD_REGISTER_POINT_STRUCT(radar_ndt::PointRadar,
   (float, cov_xx, cov_xx)
   (float, cov_xy, cov_xy)
   (float, cov_yy, cov_yy)
+  (float, doppler, doppler)
+  (float, time_offset, time_offset)
+  (std::uint16_t, sensor_id, sensor_id))
+
+POINT_CLOUD_REGISTER_POINT_STRUCT(radar_ndt::PointRadar4D,
+  (float, x, x)
+  (float, y, y)
+  (float, z, z)
+  (float, power, power)
+  (float, rcs, rcs)
+  (float, cov_xx, cov_xx)
+  (float, cov_xy, cov_xy)
+  (float, cov_xz, cov_xz)
+  (float, cov_yy, cov_yy)
+  (float, cov_yz, cov_yz)
+  (float, cov_zz, cov_zz)
   (float, doppler, doppler)
   (float, time_offset, time_offset)
   (std::uint16_t, sensor_id, sensor_id))

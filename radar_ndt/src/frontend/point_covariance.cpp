@@ -38,4 +38,33 @@ void setPointCovariances(pcl::PointCloud<PointRadar>& cloud, double yaw, PointCo
   }
 }
 
+Eigen::Matrix3d sphericalCovariance(const Eigen::Vector3d& p, const SphericalAccuracy& a) {
+  const double rho = std::hypot(p.x(), p.y());
+  const double r = p.norm();
+  if (!(r > 0)) return Eigen::Matrix3d::Zero();
+  const double az = std::atan2(p.y(), p.x()), el = std::atan2(p.z(), rho);
+  const double ca = std::cos(az), sa = std::sin(az), ce = std::cos(el), se = std::sin(el);
+  // p = r (cos el cos az, cos el sin az, sin el); columns ∂p/∂r, ∂p/∂az, ∂p/∂el.
+  Eigen::Matrix3d J;
+  J << ce * ca, -r * ce * sa, -r * se * ca,  //
+      ce * sa, r * ce * ca, -r * se * sa,    //
+      se, 0.0, r * ce;
+  const double deg = kPi / 180.0;
+  const Eigen::Vector3d var(a.range_sigma * a.range_sigma, std::pow(a.azimuth_sigma_deg * deg, 2),
+                            std::pow(a.elevation_sigma_deg * deg, 2));
+  return J * var.asDiagonal() * J.transpose();
+}
+
+void setPointCovariances(pcl::PointCloud<PointRadar4D>& cloud, const Eigen::Matrix3d& R, const SphericalAccuracy& a) {
+  for (auto& p : cloud) {
+    const Eigen::Matrix3d C = R * sphericalCovariance(Eigen::Vector3d(p.x, p.y, p.z), a) * R.transpose();
+    p.cov_xx = static_cast<float>(C(0, 0));
+    p.cov_xy = static_cast<float>(C(0, 1));
+    p.cov_xz = static_cast<float>(C(0, 2));
+    p.cov_yy = static_cast<float>(C(1, 1));
+    p.cov_yz = static_cast<float>(C(1, 2));
+    p.cov_zz = static_cast<float>(C(2, 2));
+  }
+}
+
 }  // namespace radar_ndt

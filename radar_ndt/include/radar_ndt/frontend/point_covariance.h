@@ -61,4 +61,32 @@ Eigen::Matrix2d polarCovariance(double x, double y, const PolarAccuracy& accurac
 void setPointCovariances(pcl::PointCloud<PointRadar>& cloud_sensor, double mounting_yaw, PointCovarianceModel model,
                          const PolarAccuracy& accuracy);
 
+/// A 4D radar's accuracy as 1σ in its own spherical coordinates (the sensor description's): range
+/// (m), azimuth and elevation (deg). A 4D radar's elevation is far coarser than its azimuth.
+struct SphericalAccuracy {
+  double range_sigma = 0.1;
+  double azimuth_sigma_deg = 1.0;
+  double elevation_sigma_deg = 3.0;
+  template <typename Visit>
+  static void fields(Visit&& visit);
+};
+
+template <typename Visit>
+void SphericalAccuracy::fields(Visit&& visit) {
+  using S = SphericalAccuracy;
+  visit(&S::range_sigma, Field("range_sigma", "range 1σ").unit("m").positive());
+  visit(&S::azimuth_sigma_deg, Field("azimuth_sigma_deg", "azimuth 1σ").unit("deg").positive());
+  visit(&S::elevation_sigma_deg, Field("elevation_sigma_deg", "elevation 1σ").unit("deg").positive());
+}
+
+/// Covariance of a detection at (x, y, z) in the sensor frame (x forward, y left, z up; azimuth
+/// about z from x, elevation from the x-y plane): Σ = J diag(σr², σaz², σel²) Jᵀ with J the
+/// Jacobian of the position in (range, azimuth, elevation). Zero at the origin.
+Eigen::Matrix3d sphericalCovariance(const Eigen::Vector3d& p, const SphericalAccuracy& accuracy);
+
+/// Sets the covariance of every point of `cloud` (sensor frame, as read) to sphericalCovariance
+/// rotated into the vehicle frame by the mounting's rotation R (R Σ Rᵀ).
+void setPointCovariances(pcl::PointCloud<PointRadar4D>& cloud, const Eigen::Matrix3d& mounting_rotation,
+                         const SphericalAccuracy& accuracy);
+
 }  // namespace radar_ndt

@@ -1,7 +1,8 @@
 #pragma once
-// What WeightedNDT2D reads from a point, for any PCL point type: fields are detected at compile
-// time, so pcl::PointXYZ (power 1, no covariance), pcl::PointXYZI (intensity = power) and
-// radar_ndt::PointRadar (power, covariance) all work.
+// What WeightedNDT2D and WeightedNDT3D read from a point, for any PCL point type: fields are
+// detected at compile time, so pcl::PointXYZ (power 1, no covariance), pcl::PointXYZI (intensity =
+// power), radar_ndt::PointRadar (power, 2x2 covariance) and radar_ndt::PointRadar4D (power, 3x3
+// covariance) all work.
 
 #include <cmath>
 #include <cstdint>
@@ -48,6 +49,40 @@ inline Eigen::Vector3d pointCovariance(const PointT& p) {  // (xx, xy, yy)
   else {
     (void)p;
     return Eigen::Vector3d::Zero();
+  }
+}
+
+/// The point's own 3x3 position covariance: PointRadar4D's full one, a planar type's 2x2 one with
+/// nothing known in z, zero when the type has none.
+template <typename PointT>
+inline Eigen::Matrix3d pointCovariance3D(const PointT& p) {
+  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+  if constexpr (pcl::traits::has_field<PointT, pcl::fields::cov_zz>::value) {
+    c << p.cov_xx, p.cov_xy, p.cov_xz, p.cov_xy, p.cov_yy, p.cov_yz, p.cov_xz, p.cov_yz, p.cov_zz;
+  } else if constexpr (pcl::traits::has_field<PointT, pcl::fields::cov_xx>::value) {
+    c(0, 0) = p.cov_xx;
+    c(0, 1) = c(1, 0) = p.cov_xy;
+    c(1, 1) = p.cov_yy;
+  } else {
+    (void)p;
+  }
+  return c;
+}
+
+/// Rotates a PointRadar4D's covariance by R (R C Rᵀ); other types are left as they are.
+template <typename PointT>
+inline void rotateCovariance3D(PointT& p, const Eigen::Matrix3d& R) {
+  if constexpr (pcl::traits::has_field<PointT, pcl::fields::cov_zz>::value) {
+    const Eigen::Matrix3d C = R * pointCovariance3D(p) * R.transpose();
+    p.cov_xx = static_cast<float>(C(0, 0));
+    p.cov_xy = static_cast<float>(C(0, 1));
+    p.cov_xz = static_cast<float>(C(0, 2));
+    p.cov_yy = static_cast<float>(C(1, 1));
+    p.cov_yz = static_cast<float>(C(1, 2));
+    p.cov_zz = static_cast<float>(C(2, 2));
+  } else {
+    (void)p;
+    (void)R;
   }
 }
 

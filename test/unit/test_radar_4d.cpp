@@ -1,0 +1,64 @@
+// The 4D radar simulator (radar_ndt/sim/radar_4d.h): its presets, the field of view and ranges of
+// a scan, the Doppler's sign, each detection's covariance, and a scan-to-map pair's truth.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "radar_ndt/se2.h"
+#include "radar_ndt/sim/radar_4d.h"
+
+using namespace radar_ndt;
+using namespace radar_ndt::sim;
+
+TEST(Radar4D, PresetsAndUnknownNames) {
+  for (const auto& name : radar4DPresetNames()) EXPECT_EQ(radar4DPreset(name).name, name);
+  EXPECT_THROW(radar4DPreset("ars408"), std::invalid_argument);
+}
+
+TEST(Radar4D, ScanStaysInItsFieldOfViewWithDopplerOfTheSensorsMotion) {
+  const World3D world = streetWorld(200, 3);
+  Radar4DModel m = radar4DPreset("oculii_eagle");
+  m.false_alarms = 0;
+  m.ghost_fraction = 0;
+  Pose3 pose = Pose3::Identity();
+  pose.translation() << 20, 0, 0.8;
+  const Eigen::Vector3d velocity(10, 0, 0);  // forward at 10 m/s
+  const auto scan = simulateScan4D(world, pose, velocity, m, 1, 0);
+  ASSERT_GT(scan.size(), 500u);
+  const double deg = kPi / 180.0;
+  for (const auto& p : scan) {
+    const Eigen::Vector3d v(p.x, p.y, p.z);
+    const double r = v.norm(), az = std::atan2(v.y(), v.x()), el = std::asin(v.z() / r);
+    EXPECT_LE(r, m.max_range + 1.0);
+    EXPECT_LE(std::abs(az), 0.5 * m.azimuth_fov_deg * deg + 0.05);
+    EXPECT_LE(std::abs(el), 0.5 * m.elevation_fov_deg * deg + 0.1);
+    // A static world seen from a sensor moving forward closes in: negative radial velocity (the
+    // convention: positive when the target recedes), −v·u up to the Doppler noise.
+    EXPECT_NEAR(p.doppler, -velocity.dot(v / r), 5 * m.doppler_sigma + 0.05);
+    EXPECT_GT(p.cov_zz, 0.f);
+  }
+  // The same seed and stream give the same scan.
+  EXPECT_EQ(simulateScan4D(world, pose, velocity, m, 1, 0).size(), scan.size());
+}
+
+TEST(Radar4D, PairTruthPlacesTheSourceOnTheMap) {
+  ScanToMapOptions o;
+  o.preset = "ars548";
+  o.noise_scale = 0.01;
+  const ScanToMapPair pair = scanToMapPair(o, 5, 0);
+  ASSERT_FALSE(pair.source.empty());
+  ASSERT_FALSE(pair.map.empty());
+  // The guess is off by the asked translation and rotation.
+  EXPECT_NEAR((pair.guess.translation() - pair.truth.translation()).norm(), o.translation_error, 1e-9);
+  EXPECT_NEAR(Eigen::AngleAxisd(pair.guess.linear() * pair.truth.linear().transpose()).angle(), o.rotation_error, 1e-9);
+  // Near-noiseless: most source points, placed by the truth, lie close to some map point.
+  int close = 0;
+  for (const auto& p : pair.source) {
+    const Eigen::Vector3d q = pair.truth * Eigen::Vector3d(p.x, p.y, p.z);
+    double best = 1e9;
+    for (const auto& m : pair.map) best = std::min(best, (q - Eigen::Vector3d(m.x, m.y, m.z)).norm());
+    if (best < 1.0) ++close;
+  }
+  EXPECT_GT(close, static_cast<int>(0.8 * pair.source.size()));
+}

@@ -8,6 +8,7 @@
 #include "radar_ndt/evaluation/metrics.h"
 #include "radar_ndt/evaluation/report.h"
 #include "radar_ndt/evaluation/svg_plot.h"
+#include "radar_ndt/field_values.h"
 #include "radar_ndt/io/trajectory_io.h"
 
 using namespace radar_ndt;
@@ -46,64 +47,88 @@ Trajectory readReported(const std::string& path, TrajectoryFormat format) {
   return t;
 }
 
-}  // namespace
+/// --re-distances through the field's own parser and bounds.
+void setReDistances(EvaluationOptions& options, const std::string& text) {
+  const FieldEntry<EvaluationOptions>* re = findFieldEntry<EvaluationOptions>("re_distances");
+  re->set(options, re->parse(text, "--re-distances"), "--re-distances");
+}
 
-int main(int argc, char** argv) {
-  std::string gt_path, est_path, metric_text, plot_path, format_text, kitti_step_text;
+/// The command line's values.
+struct Args {
+  std::string gt_path, est_path, metric_text, plot_path, format_text, kitti_step_text, re_text;
   std::size_t frame_step = 1;
   double one_m = 1.0;
   bool json = false;
+};
+
+po::options_description describe(Args& a) {
   po::options_description opts("Options");
   // clang-format off
   opts.add_options()
     ("help,h", "print this help and exit")
-    ("gt", po::value(&gt_path)->required(), "ground-truth trajectory (KITTI, TUM, Boreas odometry, or a Boreas applanix/*_poses.csv)")
-    ("est", po::value(&est_path)->required(), "estimated trajectory (KITTI, TUM or Boreas odometry)")
-    ("format", po::value(&format_text)->default_value("auto"),
+    ("gt", po::value(&a.gt_path)->required(), "ground-truth trajectory (KITTI, TUM, Boreas odometry, or a Boreas applanix/*_poses.csv)")
+    ("est", po::value(&a.est_path)->required(), "estimated trajectory (KITTI, TUM or Boreas odometry)")
+    ("format", po::value(&a.format_text)->default_value("auto"),
      "file format of both: auto|kitti|tum|boreas (auto: a Boreas pose CSV by its GPSTime header, else 12 "
      "columns KITTI, 8 TUM, 13 Boreas odometry)")
-    ("metric", po::value(&metric_text)->default_value("kitti"), "kitti|1m|frame|ate|all, or a comma-separated list")
-    ("kitti-step", po::value(&kitti_step_text)->default_value("auto"),
+    ("metric", po::value(&a.metric_text)->default_value("kitti"),
+     "kitti|1m|frame|ate|ate6|re|final|all, or a comma-separated list (ate6, re, final: the 6-DoF metrics, "
+     "which all adds for a trajectory that leaves the plane)")
+    ("re-distances", po::value(&a.re_text)->default_value("10,20,50,100"),
+     "re: the sub-trajectory lengths (m), comma-separated (rpg_trajectory_evaluation's relative error)")
+    ("kitti-step", po::value(&a.kitti_step_text)->default_value("auto"),
      "kitti: a first frame every N poses; auto: 4 for Boreas odometry files (the Boreas SDK's radar "
      "benchmark), else 10 (KITTI's)")
-    ("segment-length", po::value(&one_m)->default_value(1.0), "1m: segment length (m)")
-    ("frame-step", po::value(&frame_step)->default_value(1), "frame: compare poses i and i+N (N > 1 subsamples)")
-    ("json", po::bool_switch(&json), "print one JSON object {\"metrics\": {...}} instead of the table")
-    ("plot", po::value(&plot_path), "write an SVG: both trajectories (top view) and the error per segment length");
+    ("segment-length", po::value(&a.one_m)->default_value(1.0), "1m: segment length (m)")
+    ("frame-step", po::value(&a.frame_step)->default_value(1), "frame: compare poses i and i+N (N > 1 subsamples)")
+    ("json", po::bool_switch(&a.json), "print one JSON object {\"metrics\": {...}} instead of the table")
+    ("plot", po::value(&a.plot_path), "write an SVG: both trajectories (top view) and the error per segment length");
   // clang-format on
-  const std::string usage =
-      "Usage: radar_eval --gt GT --est EST [--metric kitti|1m|frame|ate|all] [--json] [--plot out.svg]\n"
-      "Association: by index when either file has no timestamps (KITTI; equal lengths needed), else by\n"
-      "timestamp with the ground truth interpolated. Rotation blocks rounded off orthonormal (files with\n"
-      "few decimals) are projected onto rotations and reported. Metrics: docs/metrics.md.";
+  return opts;
+}
+
+const char* const kUsage =
+    "Usage: radar_eval --gt GT --est EST [--metric kitti|1m|frame|ate|ate6|re|final|all] [--json] [--plot out.svg]\n"
+    "Association: by index when either file has no timestamps (KITTI; equal lengths needed), else by\n"
+    "timestamp with the ground truth interpolated. Rotation blocks rounded off orthonormal (files with\n"
+    "few decimals) are projected onto rotations and reported. A trajectory that leaves the plane (z, roll or\n"
+    "pitch) is 6-DoF: all adds rpg_trajectory_evaluation's ATE (SE(3) and position + yaw alignment) and\n"
+    "relative error, and the final position error. Metrics: docs/metrics.md.";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args a;
+  const po::options_description opts = describe(a);
   po::variables_map vm;
-  const int rc = apps::parseCommandLine(argc, argv, opts, usage, vm);
+  const int rc = apps::parseCommandLine(argc, argv, opts, kUsage, vm);
   if (rc >= 0) return rc;
 
   return apps::runGuarded("radar_eval", [&]() {
     pcl::console::TicToc timer;
     timer.tic();
-    const std::vector<Metric> metrics = parseMetrics(metric_text);
-    const TrajectoryFormat format = parseTrajectoryFormat(format_text);
-    if (frame_step == 0) throw std::invalid_argument("--frame-step must be >= 1");
-    const Trajectory gt = readReported(gt_path, format);
-    const Trajectory est = readReported(est_path, format);
+    const std::vector<Metric> metrics = parseMetrics(a.metric_text);
+    const TrajectoryFormat format = parseTrajectoryFormat(a.format_text);
+    if (a.frame_step == 0) throw std::invalid_argument("--frame-step must be >= 1");
+    const Trajectory gt = readReported(a.gt_path, format);
+    const Trajectory est = readReported(a.est_path, format);
     const PosePairs pairs = associate(gt, est);
     EvaluationOptions options;
-    options.kitti_step = kittiStep(kitti_step_text, est_path, format);
-    options.one_meter_length = one_m;
-    options.frame_step = frame_step;
+    options.kitti_step = kittiStep(a.kitti_step_text, a.est_path, format);
+    options.one_meter_length = a.one_m;
+    options.frame_step = a.frame_step;
+    setReDistances(options, a.re_text);
     const EvaluationReport report = evaluate(pairs, metrics, options);
-    if (json) {
+    if (a.json) {
       std::cout << toJson(report) << std::endl;
     } else {
       pcl::console::print_info("Evaluated %zu associated poses (%s) in %.0f ms\n", pairs.size(),
                                pairs.stamps.empty() ? "by index" : "by timestamp", timer.toc());
       std::cout << formatTable(report);
     }
-    if (!plot_path.empty()) {
-      writeEvaluationSvg(plot_path, pairs, report, est_path + " vs " + gt_path);
-      if (!json) pcl::console::print_info("Wrote %s\n", plot_path.c_str());
+    if (!a.plot_path.empty()) {
+      writeEvaluationSvg(a.plot_path, pairs, report, a.est_path + " vs " + a.gt_path);
+      if (!a.json) pcl::console::print_info("Wrote %s\n", a.plot_path.c_str());
     }
     return 0;
   });

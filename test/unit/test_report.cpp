@@ -19,7 +19,10 @@ Trajectory straight(std::size_t n, double ds, double scale = 1.0) {
 }  // namespace
 
 TEST(Report, ParsesMetricLists) {
-  EXPECT_EQ(parseMetrics("all").size(), 4u);
+  // all: the four planar metrics and the 6-DoF ones, which apply only to 6-DoF trajectories.
+  EXPECT_EQ(parseMetrics("all"),
+            (std::vector<Metric>{Metric::Kitti, Metric::OneMeter, Metric::Frame, Metric::Ate, Metric::SixDof}));
+  EXPECT_EQ(parseMetrics("ate6,re,final").size(), 3u);
   EXPECT_EQ(parseMetrics("kitti,1m").size(), 2u);
   EXPECT_THROW(parseMetrics("kitti,rpe"), std::invalid_argument);
 }

@@ -4,7 +4,11 @@
 //   {"metrics": {"kitti": {"trans_err_pct", "rot_err_deg_per_m", "segments"},
 //                "1m":    {"trans_err_pct", "rot_err_deg_per_m", "segments"},
 //                "frame": {"trans_err_m", "rot_err_deg", "pairs"},
-//                "ate":   {"rmse_m"}}}
+//                "ate":   {"rmse_m"},
+//                "ate6":  {"se3": {"rmse_m", "rot_rmse_deg"}, "posyaw": {...}, "poses"},
+//                "re":    [{"distance_m", "samples", "trans_mean_m", "trans_median_m", "trans_rmse_m",
+//                           "trans_mean_pct", "yaw_mean_deg", "gravity_mean_deg", "rot_mean_deg"}, ...],
+//                "final": {"final_m", "final_pct", "distance_m"}}}
 // with one entry per computed metric.
 
 #include <optional>
@@ -12,14 +16,18 @@
 #include <vector>
 
 #include "radar_ndt/evaluation/metrics.h"
+#include "radar_ndt/evaluation/metrics_6dof.h"
 #include "radar_ndt/fields.h"
 
 namespace radar_ndt {
 
-enum class Metric { Kitti, OneMeter, Frame, Ate };
+/// Ate is the x-y ATE after an SE(2) alignment (metrics.h); Ate6Dof, Relative and Final are the
+/// 6-DoF metrics (metrics_6dof.h); SixDof stands for those three on 6-DoF trajectories and nothing
+/// on planar ones (what "all" adds: planar files keep their metrics).
+enum class Metric { Kitti, OneMeter, Frame, Ate, Ate6Dof, Relative, Final, SixDof };
 
-/// Parses "kitti", "1m", "frame", "ate", "all", or a comma-separated list of them.
-/// Throws std::invalid_argument naming the bad word.
+/// Parses "kitti", "1m", "frame", "ate", "ate6", "re", "final", "all", or a comma-separated list
+/// of them. Throws std::invalid_argument naming the bad word.
 std::vector<Metric> parseMetrics(const std::string& text);
 
 struct EvaluationOptions {
@@ -27,6 +35,10 @@ struct EvaluationOptions {
   std::size_t kitti_step = 10;
   double one_meter_length = 1.0;
   std::size_t frame_step = 1;
+  /// The relative error's sub-trajectory lengths (rpg's; a hand-held rig's), and how far a
+  /// sub-trajectory's length may be from them, as a share of the length (rpg's 0.2).
+  std::vector<double> re_distances{10, 20, 50, 100};
+  double re_max_difference = 0.2;
   /// The field table (radar_ndt/fields.h).
   template <typename Visit>
   static void fields(Visit&& visit);
@@ -39,6 +51,9 @@ void EvaluationOptions::fields(Visit&& visit) {
   visit(&S::kitti_step, Field("kitti_step", "the KITTI metric's first frames every this many poses").atLeast(1));
   visit(&S::one_meter_length, Field("one_meter_length", "the 1 m metric's segment length").unit("m").positive());
   visit(&S::frame_step, Field("frame_step", "the frame metric's step in poses").atLeast(1));
+  visit(&S::re_distances, Field("re_distances", "the relative error's sub-trajectory lengths").unit("m").positive());
+  visit(&S::re_max_difference,
+        Field("re_max_difference", "a sub-trajectory's length within this share of the asked one").positive());
 }
 
 struct EvaluationReport {
@@ -47,6 +62,9 @@ struct EvaluationReport {
   std::optional<SegmentError> one_meter;
   std::optional<FrameError> frame;
   std::optional<AbsoluteError> ate;
+  std::optional<AbsoluteError6Dof> ate_se3, ate_posyaw;
+  std::vector<RelativeError> relative;  ///< one per re_distances entry, when asked
+  std::optional<FinalError> final_error;
 };
 
 EvaluationReport evaluate(const PosePairs& pairs, const std::vector<Metric>& metrics,

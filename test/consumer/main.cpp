@@ -1,11 +1,74 @@
 // An outside project: aligns two clouds with the installed RadarNDT through pcl::Registration, and
-// through the odometry's matcher factory, with the 0.2 include paths.
+// through the odometry's matcher factory, with the 0.2 include paths; and a 6-DoF pair with the
+// same code three times, WeightedNDT3D, then pcl::NormalDistributionsTransform and
+// pcl::GeneralizedIterativeClosestPoint in its place (the one line a user changes).
 #include <cmath>
 #include <cstdio>
+#include <random>
 
+#include <pcl/registration/gicp.h>
+#include <pcl/registration/ndt.h>
 #include <radar_ndt/odometry/matcher.h>
 #include <radar_ndt/registration/weighted_ndt_2d.h>
+#include <radar_ndt/registration/weighted_ndt_3d.h>
 #include <radar_ndt/se2.h>
+#include <radar_ndt/se3.h>
+
+namespace {
+
+using Cloud3 = pcl::PointCloud<pcl::PointXYZ>;
+
+/// A room's corner (floor and two walls) with a few boxes, as a target; the source is the same
+/// scene seen from a pose moved by a 6-DoF motion, sampled anew.
+Cloud3::Ptr scene(unsigned seed, const Eigen::Isometry3d& seen_from) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.f, 12.f), n(-0.02f, 0.02f);
+  Cloud3::Ptr c(new Cloud3);
+  for (int i = 0; i < 6000; ++i) {
+    const float a = u(rng), b = 0.25f * u(rng);
+    Eigen::Vector3d p;
+    switch (i % 4) {
+      case 0: p = Eigen::Vector3d(a, u(rng), n(rng)); break;
+      case 1: p = Eigen::Vector3d(a, n(rng), b); break;
+      case 2: p = Eigen::Vector3d(n(rng), a, b); break;
+      default: p = Eigen::Vector3d(4.0 + 4.0 * (i % 3) + 0.1 * b, 3.0 + 3.0 * (i % 2) + 0.1 * a, 0.5 * b); break;
+    }
+    const Eigen::Vector3d q = seen_from.inverse() * p;
+    c->push_back(pcl::PointXYZ(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z())));
+  }
+  return c;
+}
+
+/// The caller's code, written once against pcl::Registration: true when `reg` recovers `motion`.
+bool recovers(const pcl::Registration<pcl::PointXYZ, pcl::PointXYZ>::Ptr& reg, const Eigen::Isometry3d& motion) {
+  reg->setInputSource(scene(2, motion));
+  reg->setInputTarget(scene(1, Eigen::Isometry3d::Identity()));
+  reg->setMaxCorrespondenceDistance(2.0);
+  Cloud3 aligned;
+  reg->align(aligned);
+  const Eigen::Isometry3d est(reg->getFinalTransformation().cast<double>());
+  const double t_err = (est.translation() - motion.translation()).norm();
+  const double r_err = Eigen::AngleAxisd(est.linear().transpose() * motion.linear()).angle();
+  std::printf("%s: converged %d, translation error %.3f m, rotation error %.3f deg\n", reg->getClassName().c_str(),
+              reg->hasConverged() ? 1 : 0, t_err, r_err * 180.0 / radar_ndt::kPi);
+  return t_err < 0.05 && r_err < 0.01;
+}
+
+bool swapIn3D() {
+  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+  motion.linear() = radar_ndt::expSO3(Eigen::Vector3d(0.02, -0.03, 0.06));
+  motion.translation() << 0.4, -0.3, 0.1;
+  bool ok = recovers(pcl::make_shared<radar_ndt::WeightedNDT3D<pcl::PointXYZ, pcl::PointXYZ>>(), motion);
+  auto ndt = pcl::make_shared<pcl::NormalDistributionsTransform<pcl::PointXYZ, pcl::PointXYZ>>();
+  ndt->setResolution(2.0f);
+  ndt->setStepSize(0.5);
+  ndt->setTransformationEpsilon(0.001);
+  ok = recovers(ndt, motion) && ok;
+  ok = recovers(pcl::make_shared<pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ>>(), motion) && ok;
+  return ok;
+}
+
+}  // namespace
 
 int main() {
   pcl::PointCloud<pcl::PointXYZ>::Ptr target(new pcl::PointCloud<pcl::PointXYZ>),
@@ -43,5 +106,6 @@ int main() {
               pose.y());
   const bool ok2 =
       matcher.registration().hasConverged() && std::abs(pose.x() - dx) < 0.02 && std::abs(pose.y() - dy) < 0.02;
-  return ok && ok2 ? 0 : 1;
+  const bool ok3 = swapIn3D();
+  return ok && ok2 && ok3 ? 0 : 1;
 }

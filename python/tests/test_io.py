@@ -1,11 +1,14 @@
 """The readers from Python on the real data: Oxford, RADIATE and Boreas scans as arrays, sequences
-with their ground truth, nuScenes tables, sweeps and cycles with Doppler, trajectory files."""
+with their ground truth, nuScenes tables, sweeps and cycles with Doppler, trajectory files and the
+6-DoF metrics on them."""
+
+import json
 
 import numpy as np
 import pytest
 
 import radar_ndt
-from conftest import BOREAS, NUSCENES, OXFORD, RADIATE, need
+from conftest import BOREAS, NUSCENES, OXFORD, RADIATE, SOURCE, need
 
 
 def test_oxford_scan_arrays():
@@ -119,3 +122,21 @@ def test_nuscenes_can_bus_as_arrays(work):
     turn = np.trapz(yaw["values"], yaw["stamps_us"] * 1e-6)
     assert 1.5 < turn < 1.9
     assert radar_ndt.read_can_bus(str(work), "scene-0061") is None  # no can_bus folder: nothing
+
+
+def test_six_dof_metrics_equal_rpg_trajectory_evaluations():
+    """The 6-DoF metrics from Python as radar_eval gives them: on test/data/rpg_fixture, the values
+    rpg_trajectory_evaluation's own functions computed (expected.json), to 1e-9."""
+    fixture = SOURCE / "test" / "data" / "rpg_fixture"
+    expected = json.loads((fixture / "expected.json").read_text())
+    gt = radar_ndt.read_trajectory(str(fixture / "gt.txt"))
+    est = radar_ndt.read_trajectory(str(fixture / "est.txt"))
+    m = radar_ndt.evaluate(gt, est, "all", re_distances=[10.0, 20.0, 50.0, 100.0])
+    for kind in ("se3", "posyaw"):
+        for key in ("rmse_m", "rot_rmse_deg"):
+            assert m["ate6"][kind][key] == pytest.approx(expected["ate_" + kind][key], abs=1e-9)
+    for got, want in zip(m["re"], expected["re"]):
+        assert got["samples"] == want["samples"]
+        for key in ("trans_mean_m", "trans_median_m", "trans_rmse_m", "yaw_mean_deg", "gravity_mean_deg"):
+            assert got[key] == pytest.approx(want[key], abs=1e-9), key
+    assert m["final"]["final_m"] == pytest.approx(expected["final"]["final_m"], abs=1e-9)

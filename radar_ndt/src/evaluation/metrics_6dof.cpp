@@ -38,6 +38,24 @@ double meanOf(const std::vector<double>& v) {
   return s / static_cast<double>(v.size());
 }
 
+/// rpg compute_comparison_indices_length for pose i: the j >= i whose path length is nearest to
+/// `target`, strictly within `max_difference`, the first on ties; −1 for none. rpg scans every j;
+/// the path length never decreases, so the nearest is the first at or past `target` or the first
+/// of the value just before it: two binary searches instead of a pass over the rest.
+std::ptrdiff_t comparisonIndex(const std::vector<double>& dist, std::size_t i, double target, double max_difference) {
+  const auto from = dist.begin() + static_cast<std::ptrdiff_t>(i);
+  const auto at = std::lower_bound(from, dist.end(), target);
+  std::ptrdiff_t best = -1;
+  double error = max_difference;
+  if (at != from) {  // the value just before target, at its first index (the first on ties)
+    const auto before = std::lower_bound(from, at, *(at - 1));
+    const double d = std::abs(*before - target);
+    if (d < error) best = before - dist.begin(), error = d;
+  }
+  if (at != dist.end() && std::abs(*at - target) < error) best = at - dist.begin();
+  return best;
+}
+
 }  // namespace
 
 bool isPlanar(const std::vector<Eigen::Isometry3d>& poses, double tol) {
@@ -110,16 +128,7 @@ RelativeError relativeError(const PosePairs& pairs, double distance, double max_
   const std::vector<double> dist = pathDistances(pairs.gt);
   std::vector<double> trans, yaw, gravity, rot;
   for (std::size_t i = 0; i < pairs.size(); ++i) {
-    // rpg compute_comparison_indices_length: the nearest within max_difference, the first on ties.
-    std::ptrdiff_t best = -1;
-    double error = max_difference;
-    for (std::size_t j = i; j < pairs.size(); ++j) {
-      const double d = std::abs(dist[j] - (dist[i] + distance));
-      if (d < error) {
-        best = static_cast<std::ptrdiff_t>(j);
-        error = d;
-      }
-    }
+    const std::ptrdiff_t best = comparisonIndex(dist, i, dist[i] + distance, max_difference);
     if (best < 0) continue;
     const std::size_t j = static_cast<std::size_t>(best);
     const Eigen::Isometry3d est_ij = pairs.est[i].inverse() * pairs.est[j];

@@ -73,9 +73,10 @@ inline double ndtCost3D(const NdtGrid3D& grid, const std::vector<WeightedPoint3D
   std::size_t hits = 0;
   for (std::size_t i = 0; i < points.size(); i += stride) {
     const Eigen::Vector3d r = R * points[i].p;
-    const CellBlock* block = grid.cellsNear(r + t);
+    const Eigen::Vector3d q = r + t;
+    const CellBlock* block = grid.cellsNear(q);
     if (!block) continue;
-    const PointTerms p = pointTerms(grid, *block, r + t, points[i].w, gradient, hessian, information);
+    const PointTerms p = pointTerms(grid, *block, q, points[i].w, gradient, hessian, information);
     if (!p.hit) continue;
     ++hits;
     value -= p.score;

@@ -274,10 +274,9 @@ void bindEvaluation(py::module_& m) {
         return d;
       },
       py::arg("ground_truth"), py::arg("estimate"), py::arg("metrics") = "all",
-      "The metrics (docs/metrics.md: 'kitti', '1m', 'frame', 'ate', the 6-DoF 'ate6', 're', 'final', 'all' (the "
-      "6-DoF ones only for a trajectory that leaves the plane) or a comma-separated list) of an estimate against "
-      "ground truth, as radar_eval --json gives them (undefined errors are None). Poses are associated by time "
-      "when both have stamps, else by index. Keywords: EvaluationOptions.");
+      "The metrics (docs/metrics.md: 'kitti', '1m', 'frame', 'ate', 'ate6', 're', 'final', 'all' or a list) of an "
+      "estimate against ground truth, as radar_eval --json gives them (undefined errors are None; 'all' adds the "
+      "6-DoF ones for 6-DoF trajectories). Keywords: EvaluationOptions.");
   auto segment = [](const SegmentError& e) {
     py::dict d;
     d["trans_err_pct"] = e.trans_err_pct;

@@ -18,6 +18,7 @@
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/scanning_run.h"
 #include "radar_ndt/sim/radar_sim.h"
+#include "sanitized_build.h"
 #include "test_support.h"
 
 using namespace radar_ndt;
@@ -98,6 +99,8 @@ std::string MethodsOnSimulatedSequences::scanning_, MethodsOnSimulatedSequences:
 
 TEST_P(MethodsOnSimulatedSequences, ErrorWithinItsBoundAndFailuresCounted) {
   const MethodCase& c = GetParam();
+  if (test::kSanitizedBuild && c.pipeline == Pipeline::Scanning && c.method != "pw-ndt")
+    GTEST_SKIP() << "PCL's matchers on dense scans: their bound is checked by the release build (sanitized_build.h)";
   FrameError frame;
   std::size_t fallbacks = 0;
   if (c.pipeline == Pipeline::Scanning) {

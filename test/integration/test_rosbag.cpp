@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 #include <rosbag/bag.h>
 #include <sensor_msgs/Imu.h>
@@ -25,6 +26,7 @@
 #include "radar_ndt/ros/rosbag_scans.h"
 #include "radar_ndt/ros/rosbag_sequence.h"
 #include "radar_ndt/ros/scan_bag.h"
+#include "sanitized_build.h"
 #include <geometry_msgs/TwistStamped.h>
 #include <sensor_msgs/Image.h>
 
@@ -112,8 +114,11 @@ TEST(Rosbag, ASceneWrittenAsABagRunsToTheScenesTrajectoryBitForBit) {
   if (!fs::exists(kNuScenes)) GTEST_SKIP() << "no " << kNuScenes << " (../shared/data is absent)";
   const NuScenesDataset dataset(kNuScenes);
   const SensorDescription preset = readSensorDescription("preset:nuscenes_ars408");
-  for (const NuScenesScene& scene : dataset.scenes()) {
-    const bool compressed = scene.name == dataset.scenes().front().name;
+  // Under the sanitizer, the first two scenes: one LZ4-compressed bag and one plain (sanitized_build.h).
+  std::vector<NuScenesScene> scenes = dataset.scenes();
+  if (test::kSanitizedBuild && scenes.size() > 2) scenes.resize(2);
+  for (const NuScenesScene& scene : scenes) {
+    const bool compressed = scene.name == scenes.front().name;
     const std::string path = tempPath(scene.name + ".bag");
     ros1::writeNuScenesBag(dataset, scene, path, compressed ? ros1::BagCompression::Lz4 : ros1::BagCompression::None);
     const ros1::RosbagRadarSequence bag(path, preset);

@@ -1,0 +1,151 @@
+#include "radar_ndt/frontend/ego_velocity_3d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+namespace radar_ndt {
+
+namespace {
+
+/// The MSAC cost of v over all rows (squared residuals of the inliers, thr² for each outlier: ties
+/// between equal counts go to the tighter fit) and the inlier count.
+std::pair<double, std::size_t> msac(const std::vector<Eigen::Vector3d>& rows, const std::vector<double>& rhs,
+                                    const Eigen::Vector3d& v, double thr) {
+  double cost = 0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const double e = std::abs(rows[i].dot(v) - rhs[i]);
+    if (e <= thr) {
+      cost += e * e;
+      ++count;
+    } else {
+      cost += thr * thr;
+    }
+  }
+  return {cost, count};
+}
+
+/// RANSAC over minimal samples of three directions with the MSAC cost (deterministic: fixed seed,
+/// own index draw); false when no sample had independent directions.
+bool ransac(const std::vector<Eigen::Vector3d>& rows, const std::vector<double>& rhs, const EgoVelocity3DOptions& o,
+            Eigen::Vector3d* best_out) {
+  const std::size_t n = rows.size();
+  std::mt19937 rng(o.seed);
+  Eigen::Vector3d best = Eigen::Vector3d::Zero();
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (int it = 0; it < o.max_iterations; ++it) {
+    const std::size_t a = rng() % n, b = rng() % n, c = rng() % n;
+    if (a == b || a == c || b == c) continue;
+    Eigen::Matrix3d A;
+    A << rows[a].transpose(), rows[b].transpose(), rows[c].transpose();
+    // Near-coplanar directions leave one component of v free.
+    if (std::abs(A.determinant()) < 1e-3) continue;
+    const Eigen::Vector3d v = A.partialPivLu().solve(Eigen::Vector3d(rhs[a], rhs[b], rhs[c]));
+    if (!v.allFinite() || v.norm() > 100.0) continue;
+    const double cost = msac(rows, rhs, v, o.inlier_threshold).first;
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = v;
+    }
+  }
+  *best_out = best;
+  return std::isfinite(best_cost);
+}
+
+/// Least squares on the inliers of v, twice (the refit may gain or lose border points): v, the
+/// normal matrix and the inlier flags; the inlier count, 0 when the normal matrix is singular.
+std::size_t refine(const std::vector<Eigen::Vector3d>& rows, const std::vector<double>& rhs, double thr,
+                   Eigen::Vector3d& v, Eigen::Matrix3d& AtA, std::vector<char>& in) {
+  const std::size_t n = rows.size();
+  in.assign(n, 0);
+  std::size_t m = 0;
+  for (int round = 0; round < 2; ++round) {
+    AtA.setZero();
+    Eigen::Vector3d Atb = Eigen::Vector3d::Zero();
+    m = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      in[i] = std::abs(rows[i].dot(v) - rhs[i]) <= thr;
+      if (!in[i]) continue;
+      AtA.noalias() += rows[i] * rows[i].transpose();
+      Atb += rows[i] * rhs[i];
+      ++m;
+    }
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(AtA);
+    if (m < 3 || ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-9)) return 0;
+    v = ldlt.solve(Atb);
+  }
+  return m;
+}
+
+}  // namespace
+
+void EgoVelocity3DOptions::validate() const {
+  checkFields(*this, "EgoVelocity3DOptions");
+}
+
+EgoVelocity3D EgoVelocity3DEstimator::estimate(const std::vector<Eigen::Vector3d>& positions,
+                                               const std::vector<double>& doppler, std::vector<bool>* inlier) const {
+  const EgoVelocity3DOptions& o = options_;
+  EgoVelocity3D out;
+  if (inlier) inlier->assign(positions.size(), false);
+  if (positions.size() != doppler.size()) {
+    out.why = "positions and Doppler differ in number";
+    return out;
+  }
+  // One row a usable detection: v_r = −u · v.
+  std::vector<Eigen::Vector3d> rows;
+  std::vector<double> rhs;
+  std::vector<std::size_t> index;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    const double r = positions[i].norm();
+    if (!positions[i].allFinite() || !std::isfinite(doppler[i]) || !(r > std::max(o.min_range, 1e-6))) continue;
+    rows.push_back(-positions[i] / r);
+    rhs.push_back(doppler[i]);
+    index.push_back(i);
+  }
+  const std::size_t n = rows.size();
+  out.points = n;
+  if (n < std::max<std::size_t>(o.min_inliers, 3)) {
+    out.why = std::to_string(n) + " usable detections, " + std::to_string(std::max<std::size_t>(o.min_inliers, 3)) +
+              " needed";
+    return out;
+  }
+
+  Eigen::Vector3d v;
+  if (!ransac(rows, rhs, o, &v)) {
+    out.why = "no three detections in independent directions";
+    return out;
+  }
+
+  Eigen::Matrix3d AtA;
+  std::vector<char> in;
+  const std::size_t m = refine(rows, rhs, o.inlier_threshold, v, AtA, in);
+  if (m == 0) {
+    out.why = "the static detections' directions span a plane: one component of the velocity is unobserved";
+    return out;
+  }
+  double r2 = 0;
+  // The residuals at the final estimate, over the final inliers.
+  for (std::size_t i = 0; i < n; ++i)
+    if (in[i]) r2 += std::pow(rows[i].dot(v) - rhs[i], 2);
+  out.velocity = v;
+  out.inliers = m;
+  out.residual_rms = std::sqrt(r2 / static_cast<double>(m));
+  const double s2 = std::max(r2 / std::max(1.0, static_cast<double>(m) - 3.0), o.doppler_sigma * o.doppler_sigma);
+  out.covariance = s2 * AtA.inverse();
+  if (inlier)
+    for (std::size_t i = 0; i < n; ++i) (*inlier)[index[i]] = in[i] != 0;
+  if (m < o.min_inliers || static_cast<double>(m) < o.min_inlier_ratio * static_cast<double>(n)) {
+    out.why = std::to_string(m) + " of " + std::to_string(n) + " detections static: too few to trust";
+    return out;
+  }
+  out.valid = true;
+  return out;
+}
+
+}  // namespace radar_ndt

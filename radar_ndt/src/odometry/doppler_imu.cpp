@@ -1,0 +1,190 @@
+#include "radar_ndt/odometry/doppler_imu.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "radar_ndt/se2.h"
+
+namespace radar_ndt {
+
+namespace {
+
+std::string format(const char* fmt, double a, double b = 0, double c = 0, double d = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
+  return buf;
+}
+
+/// exp of a rotation vector.
+Eigen::Matrix3d expSO3(const Eigen::Vector3d& w) {
+  const double angle = w.norm();
+  if (angle < 1e-12) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+}
+
+/// Sorted by time, non-finite messages and repeated or earlier times dropped (said once, counted);
+/// gaps longer than `max_gap` said once with their count and the longest.
+std::vector<ImuSample> cleanImu(std::vector<ImuSample> imu, double max_gap, std::vector<std::string>& problems) {
+  const bool ordered =
+      std::is_sorted(imu.begin(), imu.end(), [](const ImuSample& a, const ImuSample& b) { return a.t < b.t; });
+  std::stable_sort(imu.begin(), imu.end(), [](const ImuSample& a, const ImuSample& b) { return a.t < b.t; });
+  std::vector<ImuSample> out;
+  out.reserve(imu.size());
+  std::size_t dropped = 0, gaps = 0;
+  double longest = 0;
+  for (const ImuSample& s : imu) {
+    if (!std::isfinite(s.t) || !s.gyro.allFinite() || !s.accel.allFinite() || (!out.empty() && s.t <= out.back().t)) {
+      ++dropped;
+      continue;
+    }
+    if (!out.empty() && s.t - out.back().t > max_gap) {
+      ++gaps;
+      longest = std::max(longest, s.t - out.back().t);
+    }
+    out.push_back(s);
+  }
+  if (!ordered) problems.push_back("the IMU messages were not in time order: sorted by their stamps");
+  if (dropped)
+    problems.push_back(format("%.0f IMU messages not finite or at a time already seen: dropped", double(dropped)));
+  if (gaps)
+    problems.push_back(
+        format("%.0f gaps in the IMU longer than %.3f s (the longest %.3f s): the gyro is held across them",
+               double(gaps), max_gap, longest));
+  return out;
+}
+
+/// The rotation that takes the specific force `f` (body axes) onto the world's up, with no yaw:
+/// the starting roll and pitch.
+Eigen::Matrix3d levelling(const Eigen::Vector3d& f) {
+  return Eigen::Quaterniond::FromTwoVectors(f.normalized(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
+
+/// Roll, pitch and the gyro's bias from the first initial_seconds of `imu` (said in `result`'s
+/// problems when the accelerometer's gravity is off the body's z, or the rig was not still).
+Eigen::Matrix3d startingAttitude(const std::vector<ImuSample>& imu, const DopplerImuOptions& o,
+                                 DopplerImuResult& result) {
+  Eigen::Vector3d f0 = Eigen::Vector3d::Zero(), w0 = Eigen::Vector3d::Zero();
+  std::size_t n0 = 0;
+  double norm_min = 1e9, norm_max = 0;
+  for (const ImuSample& s : imu) {
+    if (s.t > imu.front().t + o.initial_seconds && n0 > 0) break;
+    f0 += s.accel;
+    w0 += s.gyro;
+    norm_min = std::min(norm_min, s.accel.norm());
+    norm_max = std::max(norm_max, s.accel.norm());
+    ++n0;
+  }
+  f0 /= double(n0);
+  w0 /= double(n0);
+  // An accelerometer whose gravity is not along the body's z: the IMU's axes are not what the
+  // description says (the question rio's users ask most). The run goes on from what it reads.
+  const double tilt = std::acos(std::clamp(f0.normalized().z(), -1.0, 1.0)) * 180.0 / kPi;
+  if (tilt > 45.0)
+    result.problems.push_back(
+        format("the accelerometer reads gravity along (%.2f, %.2f, %.2f) m/s^2 at the start, "
+               "%.0f degrees from the body's z (up): check the IMU's axes and mounting",
+               f0.x(), f0.y(), f0.z(), tilt));
+  const bool still = norm_max - norm_min < 0.1 * o.gravity && w0.norm() < 0.05;
+  if (still)
+    result.gyro_bias = w0;
+  else
+    result.problems.push_back(
+        format("the rig was not still in the first %.2f s (accelerometer %.2f to %.2f m/s^2): "
+               "no gyro bias taken",
+               o.initial_seconds, norm_min, norm_max));
+
+  return levelling(f0);
+}
+
+/// The body velocity at a time: linear between the valid samples around it, held beyond the ends;
+/// and its rate of change there (the slope of that line, zero beyond the ends). Asked at
+/// increasing times.
+class VelocityTrack {
+ public:
+  explicit VelocityTrack(std::vector<BodyVelocitySample> valid) : valid_(std::move(valid)) {}
+  Eigen::Vector3d operator()(double t, Eigen::Vector3d* slope) {
+    while (cursor_ + 1 < valid_.size() && valid_[cursor_ + 1].t <= t) ++cursor_;
+    slope->setZero();
+    if (t <= valid_[cursor_].t || cursor_ + 1 == valid_.size()) return valid_[cursor_].velocity;
+    const BodyVelocitySample &a = valid_[cursor_], &b = valid_[cursor_ + 1];
+    const double u = (t - a.t) / (b.t - a.t);
+    *slope = (b.velocity - a.velocity) / (b.t - a.t);
+    return (1 - u) * a.velocity + u * b.velocity;
+  }
+
+ private:
+  std::vector<BodyVelocitySample> valid_;
+  std::size_t cursor_ = 0;
+};
+
+/// R turned a fraction `gain` of the way that brings the measured up (the specific force `f`,
+/// body axes) onto the world's z, about the horizontal axis between them: roll and pitch only.
+Eigen::Matrix3d pullToGravity(const Eigen::Matrix3d& R, const Eigen::Vector3d& f, double gain) {
+  const Eigen::Vector3d up = R * f.normalized();
+  const Eigen::Vector3d axis = up.cross(Eigen::Vector3d::UnitZ());
+  const double s = axis.norm();
+  if (s < 1e-12) return R;
+  return expSO3(axis / s * std::asin(std::min(s, 1.0)) * gain) * R;
+}
+
+}  // namespace
+
+void DopplerImuOptions::validate() const {
+  checkFields(*this, "DopplerImuOptions");
+}
+
+DopplerImuResult runDopplerImu(std::vector<ImuSample> imu_in, std::vector<BodyVelocitySample> velocities,
+                               const DopplerImuOptions& o) {
+  o.validate();
+  DopplerImuResult result;
+  const std::vector<ImuSample> imu = cleanImu(std::move(imu_in), o.max_imu_gap, result.problems);
+  if (imu.size() < 2) throw std::invalid_argument("doppler-imu: fewer than two usable IMU messages");
+  // The scans' measurement times; the valid ones are what the velocity is interpolated from.
+  for (auto& v : velocities) v.t -= o.radar_latency;
+  std::stable_sort(velocities.begin(), velocities.end(),
+                   [](const BodyVelocitySample& a, const BodyVelocitySample& b) { return a.t < b.t; });
+  std::vector<BodyVelocitySample> valid;
+  for (const auto& v : velocities)
+    if (v.valid && std::isfinite(v.t) && v.velocity.allFinite() && (valid.empty() || v.t > valid.back().t))
+      valid.push_back(v);
+  if (valid.empty()) throw std::invalid_argument("doppler-imu: no valid Doppler velocity");
+
+  Eigen::Matrix3d R = startingAttitude(imu, o, result);
+
+  VelocityTrack velocityAt(std::move(valid));
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  std::size_t next = 0;  // the next velocity sample to write a pose for
+  while (next < velocities.size() && velocities[next].t < imu.front().t) ++next;
+  const double gain_per_s = 1.0 / o.attitude_time_constant;
+  for (std::size_t k = 1; k < imu.size() && next < velocities.size(); ++k) {
+    const double t0 = imu[k - 1].t, t1 = imu[k].t, dt = t1 - t0;
+    const Eigen::Matrix3d R0 = R;
+    const Eigen::Vector3d p0 = p;
+    const Eigen::Vector3d omega = 0.5 * (imu[k - 1].gyro + imu[k].gyro) - result.gyro_bias;
+    R = R * expSO3(omega * dt);
+    Eigen::Vector3d dv;
+    const Eigen::Vector3d v = velocityAt(0.5 * (t0 + t1), &dv);
+    // The accelerometer less the body's own acceleration as the Doppler velocity and the gyro give
+    // it (a_b = dv/dt + ω × v: a turn's centripetal term above all), so that what is left is
+    // gravity; it pulls roll and pitch only when that is about 1 g.
+    const Eigen::Vector3d f = imu[k].accel - (dv + omega.cross(v));
+    if (std::abs(f.norm() - o.gravity) < o.still_tolerance) R = pullToGravity(R, f, std::min(1.0, gain_per_s * dt));
+    const Eigen::Quaterniond q0(R0), q1(R);
+    p += Eigen::Quaterniond(q0.slerp(0.5, q1)).toRotationMatrix() * v * dt;
+    for (; next < velocities.size() && velocities[next].t <= t1; ++next) {
+      const double u = (velocities[next].t - t0) / dt;
+      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+      pose.linear() = q0.slerp(u, q1).toRotationMatrix();
+      pose.translation() = p0 + u * (p - p0);
+      if (!result.trajectory.stamps.empty() && velocities[next].t <= result.trajectory.stamps.back()) continue;
+      result.trajectory.stamps.push_back(velocities[next].t);
+      result.trajectory.poses.push_back(pose);
+      result.held_velocities += !velocities[next].valid;
+    }
+  }
+  return result;
+}
+
+}  // namespace radar_ndt

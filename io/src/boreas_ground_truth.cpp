@@ -141,6 +141,17 @@ Trajectory boreasRadarTrajectory(const std::vector<BoreasPose>& rows) {
   return t;
 }
 
+Trajectory boreasRadarTrajectory6Dof(const std::vector<BoreasPose>& rows) {
+  Eigen::Isometry3d flip = Eigen::Isometry3d::Identity();
+  flip.linear() = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  Trajectory t;
+  for (const BoreasPose& p : rows) {
+    t.stamps.push_back(1e-6 * static_cast<double>(p.stamp_us));
+    t.poses.push_back(boreasSensorPose(p, false) * flip);
+  }
+  return t;
+}
+
 BoreasPose boreasPoseFromPlanar(double time_s, double x, double y, double yaw, double vx, double vy, double yaw_rate) {
   BoreasPose p;
   p.stamp_us = static_cast<std::int64_t>(std::llround(time_s * 1e6));

@@ -200,6 +200,31 @@ TEST(BoreasGroundTruth, MotionsFollowTheSdkConvention) {
   EXPECT_TRUE(auto_read.poses[2200].isApprox(t.poses[2200]));
 }
 
+// The 6-DoF trajectory: the planar one's x, y and heading, with the altitude and the car's own
+// roll and pitch (a few degrees) kept; z up.
+TEST(BoreasGroundTruth, TheSixDofTrajectoryKeepsHeightRollAndPitch) {
+  SKIP_WITHOUT(kPoses2021);
+  const std::vector<BoreasPose> rows = readBoreasPoses(kPoses2021);
+  const Trajectory planar = boreasRadarTrajectory(rows), full = boreasRadarTrajectory6Dof(rows);
+  ASSERT_EQ(full.size(), rows.size());
+  double max_tilt = 0;
+  for (std::size_t k = 0; k < full.size(); k += 97) {
+    const Eigen::Isometry3d& T = full.poses[k];
+    EXPECT_NEAR(T.translation().x(), planar.poses[k].translation().x(), 1e-6);
+    EXPECT_NEAR(T.translation().y(), planar.poses[k].translation().y(), 1e-6);
+    EXPECT_NEAR(T.translation().z(), rows[k].position.z(), 1e-9);
+    // The heading: the body's x projected on the ground.
+    const Eigen::Vector3d x = T.linear().col(0);
+    EXPECT_NEAR(std::remainder(std::atan2(x.y(), x.x()) - toPose2(planar.poses[k]).z(), 2 * kPi), 0.0, 0.01)
+        << k;                                                          // the planar heading drops roll and pitch first
+    const double tilt = std::acos(T.linear().col(2).z()) * 180 / kPi;  // the body's z from up
+    max_tilt = std::max(max_tilt, tilt);
+    EXPECT_NEAR(tilt, std::hypot(rows[k].pitch, kPi - std::abs(rows[k].roll)) * 180 / kPi, 0.05) << k;
+  }
+  EXPECT_GT(max_tilt, 0.5);  // a real drive tilts
+  EXPECT_LT(max_tilt, 10.0);
+}
+
 TEST(BoreasGroundTruth, PlanarPosesRoundTrip) {
   const std::string dir = freshTempDir("boreas_poses_roundtrip");
   std::vector<BoreasPose> rows;

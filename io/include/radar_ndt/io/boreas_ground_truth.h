@@ -52,6 +52,11 @@ void writeBoreasPoses(const std::string& path, const std::vector<BoreasPose>& ro
 /// z-down axes. Relative motions are the SDK's radar-frame motions with y and yaw negated.
 Trajectory boreasRadarTrajectory(const std::vector<BoreasPose>& rows);
 
+/// The radar's full 6-DoF trajectory in the same axes (x forward, y left, z up; ENU, the altitude
+/// kept; seconds): T_enu_radar with its roll and pitch, times the same flip. What drives the 4D
+/// simulator with a car's real motion.
+Trajectory boreasRadarTrajectory6Dof(const std::vector<BoreasPose>& rows);
+
 /// A planar vehicle-frame pose (x forward, y left) as a Boreas radar pose row (roll π, pitch 0),
 /// the inverse of boreasRadarTrajectory for one row.
 BoreasPose boreasPoseFromPlanar(double time_s, double x, double y, double yaw, double vx, double vy, double yaw_rate);

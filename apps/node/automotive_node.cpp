@@ -13,6 +13,7 @@
 #include <geometry_msgs/TwistStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/Imu.h>
+#include <sensor_msgs/PointCloud.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_msgs/TFMessage.h>
 #include <topic_tools/shape_shifter.h>
@@ -61,8 +62,9 @@ class AutomotiveNode : public RadarNode {
       channels_.emplace_back();
       channels_.back().state = TopicState(r.topic, r.name);
       if (r.mounting) channels_.back().mounting = r.mounting->transform();
-      subs_.push_back(nh.subscribe<sensor_msgs::PointCloud2>(
-          r.topic, 200, [this, i](const sensor_msgs::PointCloud2::ConstPtr& m) { onCloud(i, *m); }));
+      // Either point-cloud message, told by each message's type (as the bag reader takes both).
+      subs_.push_back(nh.subscribe<topic_tools::ShapeShifter>(
+          r.topic, 200, [this, i](const topic_tools::ShapeShifter::ConstPtr& m) { onAnyCloud(i, *m); }));
     }
     if (use_gyro_)
       subs_.push_back(nh.subscribe<sensor_msgs::Imu>(d_.imu_topic, 2000, [this](const auto& m) { onImu(*m); }));
@@ -131,7 +133,9 @@ class AutomotiveNode : public RadarNode {
   }
 
   void onImu(const sensor_msgs::Imu& msg) {
-    onSignal(LiveVehicleSignals::Signal::YawRate, imu_, msg.header.stamp, msg.angular_velocity.z, "a yaw rate");
+    onSignal(LiveVehicleSignals::Signal::YawRate, imu_, msg.header.stamp,
+             imuYawRate(d_, Eigen::Vector3d(msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z)),
+             "a yaw rate");
   }
 
   /// The speed: twist.linear.x of a geometry_msgs/TwistStamped or nav_msgs/Odometry (as offline).
@@ -196,7 +200,9 @@ class AutomotiveNode : public RadarNode {
 
   /// The cloud's points as the description names its fields; nullopt (counted and said) when it
   /// is malformed.
-  std::optional<RadarSweepData> sweepOf(std::size_t i, const sensor_msgs::PointCloud2& msg, std::int64_t t) {
+  /// Msg: sensor_msgs/PointCloud2, or the first PointCloud (NTU4DRadLM's Eagle).
+  template <typename Msg>
+  std::optional<RadarSweepData> sweepOf(std::size_t i, const Msg& msg, std::int64_t t) {
     TopicState& c = channels_[i].state;
     const RadarDescription& r = d_.radars[i];
     RadarSweepData sweep;
@@ -222,7 +228,18 @@ class AutomotiveNode : public RadarNode {
     return sweep;
   }
 
-  void onCloud(std::size_t i, const sensor_msgs::PointCloud2& msg) {
+  void onAnyCloud(std::size_t i, const topic_tools::ShapeShifter& msg) {
+    const std::string& type = msg.getDataType();
+    if (type == "sensor_msgs/PointCloud2") return onCloud(i, *msg.instantiate<sensor_msgs::PointCloud2>());
+    if (type == "sensor_msgs/PointCloud") return onCloud(i, *msg.instantiate<sensor_msgs::PointCloud>());
+    TopicState& c = channels_[i].state;
+    ++c.malformed;
+    c.problem(d_.radars[i].topic + ": a " + type +
+              ": radar clouds are read from sensor_msgs/PointCloud2 or sensor_msgs/PointCloud: left out");
+  }
+
+  template <typename Msg>
+  void onCloud(std::size_t i, const Msg& msg) {
     const ros::WallTime arrival = ros::WallTime::now();
     Channel& c = channels_[i];
     if (c.frame.empty() && !msg.header.frame_id.empty()) {

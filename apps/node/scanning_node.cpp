@@ -90,7 +90,9 @@ class ScanningNode : public RadarNode {
     const std::int64_t t = stampOf(d_.stamps, msg.header.stamp);
     if (imu_.arrived(t)) restart(imu_, t);
     stream_us_ = std::max(stream_us_, t - offset_us_);
-    takeSignal(yaw_, LiveVehicleSignals::Signal::YawRate, imu_, t, msg.angular_velocity.z, "a yaw rate", "sweeps");
+    takeSignal(yaw_, LiveVehicleSignals::Signal::YawRate, imu_, t,
+               imuYawRate(d_, Eigen::Vector3d(msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z)),
+               "a yaw rate", "sweeps");
     processReady(false);
   }
 

@@ -339,7 +339,8 @@ void readGroundTruth(const Node& n, SensorDescription& d) {
 }
 
 SensorDescription readDescription(const Node& root, const std::string& source) {
-  root.expectMap({"name", "radars", "reference", "base_frame", "stamps", "imu", "speed", "ground_truth"});
+  root.expectMap(
+      {"name", "radars", "reference", "base_frame", "stamps", "imu", "imu_mounting", "speed", "ground_truth"});
   SensorDescription d;
   d.source = source;
   d.name = textOr(root, "name", "");
@@ -354,6 +355,7 @@ SensorDescription readDescription(const Node& root, const std::string& source) {
   else
     root.child("stamps")->fail("'" + stamps + "': stamps are header, receive or auto");
   d.imu_topic = textOr(root, "imu", "");
+  if (const auto m = root.child("imu_mounting")) d.imu_mounting = readMounting(*m);
   d.speed_topic = textOr(root, "speed", "");
   if (const auto gt = root.child("ground_truth")) readGroundTruth(*gt, d);
   const auto radars = root.child("radars");
@@ -425,6 +427,14 @@ SensorDescription readSensorDescription(const std::string& path) {
     return d;
   }
   return parseSensorDescription(detail::readWholeFile(path), path);
+}
+
+Eigen::Matrix3d imuRotation(const SensorDescription& d) {
+  return d.imu_mounting ? Eigen::Matrix3d(d.imu_mounting->transform().linear()) : Eigen::Matrix3d::Identity();
+}
+
+double imuYawRate(const SensorDescription& d, const Eigen::Vector3d& gyro) {
+  return d.imu_mounting ? imuRotation(d).row(2).dot(gyro) : gyro.z();
 }
 
 }  // namespace radar_ndt

@@ -15,6 +15,7 @@
 
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/ros/ros_time.h"
+#include "radar_ndt/se2.h"
 
 namespace radar_ndt {
 namespace ros1 {
@@ -148,7 +149,14 @@ bool MotionTopics::take(const rosbag::MessageInstance& m, StampRule& stamps, std
   if (topic == d_.imu_topic) {
     taken = true;
     const auto imu = m.instantiate<sensor_msgs::Imu>();
-    const double rate = imu->angular_velocity.z;
+    const Eigen::Vector3d gyro(imu->angular_velocity.x, imu->angular_velocity.y, imu->angular_velocity.z);
+    const double rate = imuYawRate(d_, gyro);
+    // The first second's specific force in the base frame: gravity should read along +z.
+    const Eigen::Vector3d f(imu->linear_acceleration.x, imu->linear_acceleration.y, imu->linear_acceleration.z);
+    if (f.allFinite() && f.norm() > 1.0 && gravity_count_ < 200) {
+      gravity_sum_ += imuRotation(d_) * f;
+      ++gravity_count_;
+    }
     if (!std::isfinite(rate)) {
       ++imu_dropped_;
     } else {
@@ -241,6 +249,21 @@ void MotionTopics::finish(std::shared_ptr<const VehicleSignals>& signals_out, Tr
     if (imu_dropped_ > 0)
       problems.push_back(d_.imu_topic + ": " + std::to_string(imu_dropped_) +
                          " messages without a finite yaw rate left out");
+    // Gravity along another axis than the description's mounting says: the yaw rate would be
+    // another axis's rate. Said with the figures; the run goes on.
+    if (gravity_count_ > 0) {
+      const Eigen::Vector3d g = gravity_sum_ / static_cast<double>(gravity_count_);
+      const double tilt = std::acos(std::clamp(g.normalized().z(), -1.0, 1.0)) * 180.0 / kPi;
+      if (tilt > 45.0) {
+        char text[320];
+        std::snprintf(text, sizeof text,
+                      "%s: the accelerometer reads gravity along (%.2f, %.2f, %.2f) m/s^2 in the base frame, %.0f "
+                      "degrees from its z (up): the IMU is not mounted as described, and its yaw rate is another "
+                      "axis's; give 'imu_mounting' (the IMU's roll pitch yaw in the base frame)",
+                      d_.imu_topic.c_str(), g.x(), g.y(), g.z(), tilt);
+        problems.push_back(text);
+      }
+    }
     if (!d_.speed_topic.empty()) {
       signals->speed = seriesOf(speed_);
       if (signals->speed.empty()) throw IoError(path_, "speed topic " + d_.speed_topic + " has no finite speed");

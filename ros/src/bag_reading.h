@@ -27,6 +27,7 @@ namespace ros1 {
 namespace detail {
 
 constexpr const char* kCloud = "sensor_msgs/PointCloud2";
+constexpr const char* kCloud1 = "sensor_msgs/PointCloud";  ///< the first point-cloud message (NTU4DRadLM's Eagle)
 constexpr const char* kImage = "sensor_msgs/Image";
 constexpr const char* kImu = "sensor_msgs/Imu";
 constexpr const char* kOdometry = "nav_msgs/Odometry";
@@ -116,6 +117,8 @@ class MotionTopics {
   std::vector<std::pair<std::int64_t, double>> imu_, speed_;
   std::vector<std::pair<std::int64_t, Eigen::Isometry3d>> poses_;
   std::size_t imu_dropped_ = 0, imu_messages_ = 0, speed_dropped_ = 0;
+  Eigen::Vector3d gravity_sum_ = Eigen::Vector3d::Zero();  ///< the first messages' specific force, base frame
+  std::size_t gravity_count_ = 0;
   ProblemLog log_;
 };
 

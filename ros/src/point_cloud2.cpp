@@ -182,3 +182,62 @@ sensor_msgs::PointCloud2 writeCloud(const std::vector<std::string>& names, const
 
 }  // namespace ros1
 }  // namespace radar_ndt
+
+namespace radar_ndt {
+namespace ros1 {
+
+std::string fieldNames(const sensor_msgs::PointCloud& cloud) {
+  std::string names = "x, y, z";
+  for (const auto& c : cloud.channels) names += ", " + (c.name.empty() ? std::string("(unnamed)") : c.name);
+  return names;
+}
+
+CloudColumns readCloudColumns(const sensor_msgs::PointCloud& cloud, const std::vector<std::string>& names) {
+  const std::size_t n = cloud.points.size();
+  for (std::size_t c = 0; c < cloud.channels.size(); ++c)
+    if (cloud.channels[c].values.size() != n)
+      throw std::invalid_argument("channel " + std::to_string(c) + " ('" + cloud.channels[c].name + "') has " +
+                                  std::to_string(cloud.channels[c].values.size()) + " values for " + std::to_string(n) +
+                                  " points");
+  // Each requested name: a coordinate (-1, -2, -3), a channel's index, or absent (npos).
+  constexpr std::size_t kAbsent = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> source(names.size(), kAbsent);
+  std::vector<int> coordinate(names.size(), -1);
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string& name = names[k];
+    if (name == "x" || name == "y" || name == "z") {
+      coordinate[k] = name[0] - 'x';
+      continue;
+    }
+    if (name.size() > 1 && name[0] == '#' && name.find_first_not_of("0123456789", 1) == std::string::npos) {
+      const std::size_t index = std::stoul(name.substr(1));
+      if (index < cloud.channels.size()) source[k] = index;
+      continue;
+    }
+    for (std::size_t c = 0; c < cloud.channels.size(); ++c)
+      if (cloud.channels[c].name == name) {
+        source[k] = c;
+        break;
+      }
+  }
+  CloudColumns out;
+  out.points = n;
+  out.present.resize(names.size());
+  for (std::size_t k = 0; k < names.size(); ++k) out.present[k] = coordinate[k] >= 0 || source[k] != kAbsent;
+  out.table.assign(n * names.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = cloud.points[i];
+    const double xyz[3] = {p.x, p.y, p.z};
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      double& cell = out.table[i * names.size() + k];
+      if (coordinate[k] >= 0)
+        cell = xyz[coordinate[k]];
+      else if (source[k] != kAbsent)
+        cell = cloud.channels[source[k]].values[i];
+    }
+  }
+  return out;
+}
+
+}  // namespace ros1
+}  // namespace radar_ndt

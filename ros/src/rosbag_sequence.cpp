@@ -14,6 +14,7 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/Imu.h>
+#include <sensor_msgs/PointCloud.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_msgs/TFMessage.h>
 
@@ -62,7 +63,7 @@ class BagReader {
       if (r.fields.doppler == DopplerKind::None)
         throw IoError(s_.path_, d_.source + ": radar " + r.name +
                                     " has no Doppler field: the automotive pipeline needs the radial velocity");
-      bag.expectType(d_.source, "radar " + r.name, r.topic, {kCloud});
+      bag.expectType(d_.source, "radar " + r.name, r.topic, {kCloud, kCloud1});
       s_.channels_.push_back(r.name);
     }
     motion_.check(bag);
@@ -82,17 +83,20 @@ class BagReader {
   void takeRadar(const rosbag::MessageInstance& m, std::uint16_t channel) {
     ++s_.stats_.radar_messages;
     const RadarDescription& r = d_.radars[channel];
+    // sensor_msgs/PointCloud2, or the first PointCloud some 4D radar drivers publish.
     const auto cloud = m.instantiate<sensor_msgs::PointCloud2>();
-    const ros::Time t = stamps_(cloud->header.stamp, m, s_.problems_);
+    const auto cloud1 = cloud ? nullptr : m.instantiate<sensor_msgs::PointCloud>();
+    const std_msgs::Header& header = cloud ? cloud->header : cloud1->header;
+    const ros::Time t = stamps_(header.stamp, m, s_.problems_);
     try {
-      if (frames_[channel].empty()) frames_[channel] = cloud->header.frame_id;
+      if (frames_[channel].empty()) frames_[channel] = header.frame_id;
       const std::vector<std::string> names = r.fields.columns();
-      const CloudColumns columns = readCloudColumns(*cloud, names);
+      const CloudColumns columns = cloud ? readCloudColumns(*cloud, names) : readCloudColumns(*cloud1, names);
       for (const std::string& required : r.fields.requiredColumns())
         for (std::size_t c = 0; c < names.size(); ++c)
           if (names[c] == required && !columns.present[c])
-            throw std::invalid_argument("no field '" + required + "' (the message's fields: " + fieldNames(*cloud) +
-                                        ")");
+            throw std::invalid_argument("no field '" + required + "' (the message's fields: " +
+                                        (cloud ? fieldNames(*cloud) : fieldNames(*cloud1)) + ")");
       RadarPointStats stats;
       RosbagRadarSequence::Sweep sweep;
       sweep.points = convertRadarPoints(columns.table, columns.points, columns.present, r.fields, channel, &stats);

@@ -135,6 +135,25 @@ TEST(SensorDescription, ABadFileNamesTheKeyAndTheLine) {
               "'q': expected a list");
   expectError(std::string(kMinimal) + "reference: rear\n", "reference", "none of the radars");
   expectError(std::string(kMinimal) + "stamps: gps\n", "stamps", "header, receive or auto");
+  expectError(std::string(kMinimal) + "imu_mounting: {roll: up}\n", "imu_mounting.roll", "not a finite number");
+}
+
+// The IMU's mounting: an IMU upside down (roll π) reads the vehicle's left turn as a negative rate
+// about its own z; NTU4DRadLM's preset describes its VectorNav so.
+TEST(SensorDescription, AnImuMountingTurnsTheGyroIntoTheBaseFrame) {
+  const SensorDescription plain = parseSensorDescription(kMinimal, "plain.yaml");
+  EXPECT_FALSE(plain.imu_mounting);
+  EXPECT_DOUBLE_EQ(imuYawRate(plain, Eigen::Vector3d(0.1, 0.2, 0.3)), 0.3);
+  const SensorDescription flipped =
+      parseSensorDescription(std::string(kMinimal) + "imu_mounting: {roll: 3.141592653589793}\n", "flipped.yaml");
+  ASSERT_TRUE(flipped.imu_mounting);
+  EXPECT_NEAR(imuYawRate(flipped, Eigen::Vector3d(0.1, 0.2, -0.3)), 0.3, 1e-12);
+  EXPECT_TRUE((imuRotation(flipped) * Eigen::Vector3d(0, 0, -9.81)).isApprox(Eigen::Vector3d(0, 0, 9.81), 1e-12));
+  const SensorDescription ntu = readSensorDescription("preset:ntu4dradlm_eagle");
+  ASSERT_TRUE(ntu.imu_mounting);
+  EXPECT_GT((imuRotation(ntu) * Eigen::Vector3d(0, 0, -9.81)).z(), 9.7);
+  EXPECT_EQ(ntu.radars.at(0).fields.radial, "#0");
+  EXPECT_EQ(ntu.radars.at(0).fields.power, "#2");
 }
 
 // A scanning radar: its polar image's layout read, and what does not apply to it refused.

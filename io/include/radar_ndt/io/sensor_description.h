@@ -71,9 +71,12 @@ struct SensorDescription {
   std::string reference;                 ///< the radar (name) that clocks the cycles; empty: the forward-facing one
   std::string base_frame = "base_link";  ///< the vehicle frame of the mountings and the IMU
   StampSource stamps = StampSource::Auto;
-  /// sensor_msgs/Imu of the vehicle: its angular_velocity.z is the yaw rate (a gyro mounted
-  /// with z up in the base frame); empty: none.
+  /// sensor_msgs/Imu of the vehicle: the yaw rate is its angular velocity turned into the base
+  /// frame by `imu_mounting` (imuYawRate); empty: none.
   std::string imu_topic;
+  /// How the IMU's axes lie in the base frame (only the rotation is used: roll pitch yaw); none:
+  /// they are the base frame's (z up). An IMU mounted upside down (NTU4DRadLM's VectorNav) is roll π.
+  std::optional<MountingDescription> imu_mounting;
   /// The vehicle's forward speed (what --wheels fuses): geometry_msgs/TwistStamped or
   /// nav_msgs/Odometry, twist.linear.x in m/s; empty: none.
   std::string speed_topic;
@@ -82,6 +85,11 @@ struct SensorDescription {
   std::string ground_truth_topic;
   std::string ground_truth_parent = "map", ground_truth_child = "base_link";
 };
+
+/// The rotation of the IMU's axes into the base frame (identity without imu_mounting).
+Eigen::Matrix3d imuRotation(const SensorDescription& d);
+/// The yaw rate (rad/s, about the base frame's z) an IMU reading `gyro` (its own axes) gives.
+double imuYawRate(const SensorDescription& d, const Eigen::Vector3d& gyro);
 
 /// Reads a sensor description file; `preset:NAME` reads the preset NAME (sensorPresets()).
 /// Throws IoError naming the file, the key (e.g. `radars[2].fields.doppler`) and the problem.

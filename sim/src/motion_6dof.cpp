@@ -164,11 +164,14 @@ class PathClearance {
   std::vector<Eigen::Isometry3d> poses;
 
  private:
-  static std::int64_t key(double x, double y) {
-    return (static_cast<std::int64_t>(std::floor(x / 2)) << 32) ^
-           (static_cast<std::int64_t>(std::floor(y / 2)) & 0xffffffff);
+  /// The 2 m cell's key: both indices as unsigned (a negative index wraps, well defined), x's in the
+  /// high half.
+  static std::uint64_t key(double x, double y) {
+    const auto ix = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x / 2)));
+    const auto iy = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(y / 2)));
+    return (ix << 32) ^ (iy & 0xffffffffULL);
   }
-  std::unordered_multimap<std::int64_t, Eigen::Vector3d> cells_;
+  std::unordered_multimap<std::uint64_t, Eigen::Vector3d> cells_;
 };
 
 }  // namespace

@@ -17,9 +17,12 @@
 #include "radar_ndt/io/boreas_ground_truth.h"
 #include "radar_ndt/io/io_error.h"
 #include "read_file.h"
+#include "rotations.h"
 #include "text_lines.h"
 
 namespace radar_ndt {
+using detail::nearestRotation;
+using detail::orthogonalityError;
 using detail::readWholeFile;
 namespace {
 
@@ -64,10 +67,6 @@ void forEachDataLine(const std::string& path, const std::string& text, Fn&& fn) 
 // only one that is no rotation at all is refused. Beyond this deviation no rounding explains it.
 constexpr double kProjectableDeviation = 0.05;
 
-double orthogonalityError(const Eigen::Matrix3d& R) {
-  return (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-}
-
 /// Throws when `R` is too far from a rotation to be one rounded; else true when it needs projecting.
 bool needsProjection(const std::string& path, std::size_t line_no, const Eigen::Matrix3d& R) {
   const double orth = orthogonalityError(R);
@@ -87,12 +86,6 @@ bool needsProjection(const std::string& path, std::size_t line_no, const Eigen::
 void noteProjection(Trajectory* t, const Eigen::Matrix3d& R) {
   ++t->projected_rotations;
   t->max_rotation_deviation = std::max(t->max_rotation_deviation, orthogonalityError(R));
-}
-
-/// The rotation nearest `R` in the Frobenius norm (polar decomposition by SVD).
-Eigen::Matrix3d nearestRotation(const Eigen::Matrix3d& R) {
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  return svd.matrixU() * svd.matrixV().transpose();
 }
 
 /// pyboreas utils.enforce_orthog (dim 3), step for step, so that a Boreas file scores exactly as the

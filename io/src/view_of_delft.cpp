@@ -8,11 +8,11 @@
 #include <iterator>
 #include <sstream>
 
-#include <Eigen/SVD>
 #include <nlohmann/json.hpp>
 
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/io_error.h"
+#include "rotations.h"
 
 namespace radar_ndt {
 
@@ -39,12 +39,10 @@ bool toRigid(const std::vector<double>& v, Eigen::Isometry3d* T) {
     for (int c = 0; c < 3; ++c) R(r, c) = v[r * 4 + c];
     t(r) = v[r * 4 + 3];
   }
-  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-3 || R.determinant() <= 0)
-    return false;
+  if (detail::orthogonalityError(R) > 1e-3 || R.determinant() <= 0) return false;
   // Re-orthogonalised: the files hold rounded rotations.
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
   *T = Eigen::Isometry3d::Identity();
-  T->linear() = svd.matrixU() * svd.matrixV().transpose();
+  T->linear() = detail::nearestRotation(R);
   T->translation() = t;
   return true;
 }

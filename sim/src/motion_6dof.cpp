@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "radar_ndt/se2.h"
+#include "radar_ndt/se3.h"
 
 #include "sim_random.h"
 
@@ -13,17 +14,6 @@ namespace radar_ndt {
 namespace sim {
 
 namespace {
-
-Eigen::Vector3d logSO3(const Eigen::Matrix3d& R) {
-  const Eigen::AngleAxisd aa(R);
-  return aa.angle() * aa.axis();
-}
-
-Eigen::Matrix3d expSO3(const Eigen::Vector3d& w) {
-  const double a = w.norm();
-  if (a < 1e-15) return Eigen::Matrix3d::Identity();
-  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
-}
 
 /// The cumulative cubic B-spline basis B̃1..B̃3 at u in [0, 1).
 Eigen::Vector3d cumulativeBasis(double u) {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "radar_ndt/se2.h"
+#include "radar_ndt/se3.h"
 
 namespace radar_ndt {
 
@@ -15,13 +16,6 @@ std::string format(const char* fmt, double a, double b = 0, double c = 0, double
   char buf[256];
   std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
   return buf;
-}
-
-/// exp of a rotation vector.
-Eigen::Matrix3d expSO3(const Eigen::Vector3d& w) {
-  const double angle = w.norm();
-  if (angle < 1e-12) return Eigen::Matrix3d::Identity();
-  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
 }
 
 /// Sorted by time, non-finite messages and repeated or earlier times dropped (said once, counted);

@@ -99,7 +99,7 @@ std::string MethodsOnSimulatedSequences::scanning_, MethodsOnSimulatedSequences:
 
 TEST_P(MethodsOnSimulatedSequences, ErrorWithinItsBoundAndFailuresCounted) {
   const MethodCase& c = GetParam();
-  if (test::kSanitizedBuild && c.pipeline == Pipeline::Scanning && c.method != "pw-ndt")
+  if (test::kSanitizedBuild && c.pipeline == Pipeline::Scanning && std::string(c.method) != "pw-ndt")
     GTEST_SKIP() << "PCL's matchers on dense scans: their bound is checked by the release build (sanitized_build.h)";
   FrameError frame;
   std::size_t fallbacks = 0;

@@ -1,12 +1,15 @@
 // An outside project: aligns two clouds with the installed RadarNDT through pcl::Registration, and
-// through the odometry's matcher factory, with the 0.2 include paths; and a 6-DoF pair with the
-// same code three times, WeightedNDT3D, then pcl::NormalDistributionsTransform and
-// pcl::GeneralizedIterativeClosestPoint in its place (the one line a user changes).
+// through the odometry's matcher factory, with the 0.2 include paths; the same planar pair with the
+// same code three times, WeightedNDT2D, then pcl::IterativeClosestPoint and
+// pcl::NormalDistributionsTransform in its place; and a 6-DoF pair the same way, WeightedNDT3D,
+// then pcl::NormalDistributionsTransform and pcl::GeneralizedIterativeClosestPoint (the one line a
+// user changes). Each run's output cloud is its source moved by its result.
 #include <cmath>
 #include <cstdio>
 #include <random>
 
 #include <pcl/registration/gicp.h>
+#include <pcl/registration/icp.h>
 #include <pcl/registration/ndt.h>
 #include <radar_ndt/odometry/matcher.h>
 #include <radar_ndt/registration/weighted_ndt_2d.h>
@@ -39,19 +42,31 @@ Cloud3::Ptr scene(unsigned seed, const Eigen::Isometry3d& seen_from) {
   return c;
 }
 
+/// Whether `out` is `source` moved by `T`.
+bool isSourceMoved(const Cloud3& out, const Cloud3& source, const Eigen::Matrix4f& T) {
+  if (out.size() != source.size()) return false;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const Eigen::Vector3f moved = T.topLeftCorner<3, 3>() * source[i].getVector3fMap() + T.topRightCorner<3, 1>();
+    if ((out[i].getVector3fMap() - moved).norm() > 1e-4f) return false;
+  }
+  return true;
+}
+
 /// The caller's code, written once against pcl::Registration: true when `reg` recovers `motion`.
 bool recovers(const pcl::Registration<pcl::PointXYZ, pcl::PointXYZ>::Ptr& reg, const Eigen::Isometry3d& motion) {
-  reg->setInputSource(scene(2, motion));
+  const Cloud3::Ptr source = scene(2, motion);
+  reg->setInputSource(source);
   reg->setInputTarget(scene(1, Eigen::Isometry3d::Identity()));
   reg->setMaxCorrespondenceDistance(2.0);
   Cloud3 aligned;
   reg->align(aligned);
+  const bool moved = isSourceMoved(aligned, *source, reg->getFinalTransformation());
   const Eigen::Isometry3d est(reg->getFinalTransformation().cast<double>());
   const double t_err = (est.translation() - motion.translation()).norm();
   const double r_err = Eigen::AngleAxisd(est.linear().transpose() * motion.linear()).angle();
   std::printf("%s: converged %d, translation error %.3f m, rotation error %.3f deg\n", reg->getClassName().c_str(),
               reg->hasConverged() ? 1 : 0, t_err, r_err * 180.0 / radar_ndt::kPi);
-  return t_err < 0.05 && r_err < 0.01;
+  return moved && t_err < 0.05 && r_err < 0.01;
 }
 
 bool swapIn3D() {
@@ -65,6 +80,33 @@ bool swapIn3D() {
   ndt->setTransformationEpsilon(0.001);
   ok = recovers(ndt, motion) && ok;
   ok = recovers(pcl::make_shared<pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ>>(), motion) && ok;
+  return ok;
+}
+
+/// The planar pair with the same code three times: WeightedNDT2D must recover (dx, dy); PCL's ICP and
+/// NDT must run through the same pointer and move their output with their result.
+bool swapIn2D(const Cloud3::Ptr& source, const Cloud3::Ptr& target, float dx, float dy) {
+  bool ok = true;
+  for (int which = 0; which < 3; ++which) {
+    pcl::Registration<pcl::PointXYZ, pcl::PointXYZ>::Ptr reg;
+    if (which == 0) reg.reset(new radar_ndt::WeightedNDT2D<pcl::PointXYZ, pcl::PointXYZ>);
+    if (which == 1) reg.reset(new pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ>);
+    if (which == 2) {
+      auto ndt = pcl::make_shared<pcl::NormalDistributionsTransform<pcl::PointXYZ, pcl::PointXYZ>>();
+      ndt->setResolution(3.0f);
+      reg = ndt;
+    }
+    reg->setInputSource(source);
+    reg->setInputTarget(target);
+    reg->setMaximumIterations(50);
+    Cloud3 aligned;
+    reg->align(aligned);
+    const Eigen::Matrix4f T = reg->getFinalTransformation();
+    const bool moved = isSourceMoved(aligned, *source, T), finite = T.allFinite();
+    std::printf("%s (2D pair): t = (%.3f, %.3f)\n", reg->getClassName().c_str(), T(0, 3), T(1, 3));
+    ok = ok && moved && finite;
+    if (which == 0) ok = ok && reg->hasConverged() && std::abs(T(0, 3) - dx) < 0.02f && std::abs(T(1, 3) - dy) < 0.02f;
+  }
   return ok;
 }
 
@@ -107,5 +149,6 @@ int main() {
   const bool ok2 =
       matcher.registration().hasConverged() && std::abs(pose.x() - dx) < 0.02 && std::abs(pose.y() - dy) < 0.02;
   const bool ok3 = swapIn3D();
-  return ok && ok2 && ok3 ? 0 : 1;
+  const bool ok4 = swapIn2D(source, target, dx, dy);
+  return ok && ok2 && ok3 && ok4 ? 0 : 1;
 }

@@ -1,11 +1,13 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <string>
 
 #include "radar_ndt/io/io_error.h"
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/sensor_description.h"
+#include "radar_ndt/se2.h"
 
 using namespace radar_ndt;
 
@@ -154,6 +156,32 @@ TEST(SensorDescription, AnImuMountingTurnsTheGyroIntoTheBaseFrame) {
   EXPECT_GT((imuRotation(ntu) * Eigen::Vector3d(0, 0, -9.81)).z(), 9.7);
   EXPECT_EQ(ntu.radars.at(0).fields.radial, "#0");
   EXPECT_EQ(ntu.radars.at(0).fields.power, "#2");
+}
+
+// Snail-Radar's ARS548: dataset_tools' Body_T_Ars548.m composes R3d(3) * R2d(1), passive rotations
+// (R3d's comment: p_B = R3(θ) p_A for a frame B turned by θ about z, so R3(θ) = Rz(θ)ᵀ), here
+// written out as those matrices, against the preset's roll, pitch and yaw.
+TEST(SensorDescription, SnailRadarsArs548MountingIsTheDatasetsPassiveRotations) {
+  const SensorDescription d = readSensorDescription("preset:snail_radar_ars548");
+  ASSERT_EQ(d.radars.size(), 1u);
+  const double a = 3.0 * kPi / 180.0, b = 1.0 * kPi / 180.0;
+  Eigen::Matrix3d R3, R2;
+  R3 << std::cos(a), std::sin(a), 0, -std::sin(a), std::cos(a), 0, 0, 0, 1;
+  R2 << std::cos(b), 0, -std::sin(b), 0, 1, 0, std::sin(b), 0, std::cos(b);
+  ASSERT_TRUE(d.radars[0].mounting);
+  const Eigen::Isometry3d T = d.radars[0].mounting->transform();
+  EXPECT_LT((T.linear() - R3 * R2).norm(), 1e-6);
+  EXPECT_TRUE(T.translation().isApprox(Eigen::Vector3d(0, 0, 0.07)));
+  // A detection straight ahead of the radar lies a little right of the body's x and above it: the
+  // radar looks up, as the dataset says of the morning it was "tilted backward" (R2d(5)).
+  const Eigen::Vector3d ahead = T.linear() * Eigen::Vector3d(10, 0, 0);
+  EXPECT_LT(ahead.y(), 0.0);
+  EXPECT_GT(ahead.z(), 0.0);
+  EXPECT_EQ(d.radars[0].fields.radial, "doppler");
+  EXPECT_EQ(d.radars[0].fields.rcs, "intensity");
+  EXPECT_TRUE(d.radars[0].fields.power.empty());
+  EXPECT_EQ(d.imu_topic, "/x36d/imu_raw");
+  EXPECT_FALSE(d.imu_mounting);
 }
 
 // A scanning radar: its polar image's layout read, and what does not apply to it refused.

@@ -238,7 +238,8 @@ World3D nearby(const World3D& world, const Eigen::Vector3d& c, double radius) {
 }  // namespace
 
 Radar4DSequence simulateRadar4DSequence(const Motion6Dof& motion, const World3D& world, const Radar4DModel& model,
-                                        double rate, const Imu6Options& imu, std::uint64_t seed) {
+                                        double rate, const Imu6Options& imu, std::uint64_t seed,
+                                        const Eigen::Isometry3d& mounting) {
   if (!(rate > 0)) throw std::invalid_argument("the radar's rate must be positive");
   Radar4DSequence seq;
   seq.imu = simulateImu6(motion, imu, seed);
@@ -246,7 +247,9 @@ Radar4DSequence simulateRadar4DSequence(const Motion6Dof& motion, const World3D&
   for (double t = motion.start() + 0.5 / rate; t <= motion.end(); t += 1.0 / rate, ++k) {
     const Eigen::Isometry3d T = motion.pose(t);
     const World3D local = nearby(world, T.translation(), model.max_range);
-    seq.scans.push_back(simulateScan4D(local, T, motion.velocity(t), model, seed, k));
+    // The radar's own velocity: the body's plus the lever arm's turn, ω × t in the body, in the world.
+    const Eigen::Vector3d v = motion.velocity(t) + T.linear() * motion.angularVelocity(t).cross(mounting.translation());
+    seq.scans.push_back(simulateScan4D(local, T * mounting, v, model, seed, k));
     seq.stamps.push_back(t);
     seq.truth.stamps.push_back(t);
     seq.truth.poses.push_back(T);

@@ -96,8 +96,10 @@ std::vector<ImuSample> simulateImu6(const Motion6Dof& motion, const Imu6Options&
 /// the path's height. Nothing is placed within 1 m of any part of the path.
 World3D worldAlongPath(const Motion6Dof& motion, bool car, std::uint64_t seed);
 
-/// A 4D radar sequence along `motion`: scans at `rate` Hz (the radar at the body's origin, its
-/// axes the body's) in `world`, the IMU beside them, and the truth at each scan.
+/// A 4D radar sequence along `motion`: scans at `rate` Hz from the radar at `mounting` on the body
+/// (radar to body; identity: at the body's origin with its axes) in `world`, in the radar's frame
+/// with its own velocity's Doppler, the IMU beside them (at the body's origin, its axes), and the
+/// body's truth at each scan.
 struct Radar4DSequence {
   std::vector<double> stamps;  ///< s, one a scan
   std::vector<pcl::PointCloud<PointRadar4D>> scans;
@@ -105,7 +107,8 @@ struct Radar4DSequence {
   Trajectory truth;  ///< the body's pose at each scan
 };
 Radar4DSequence simulateRadar4DSequence(const Motion6Dof& motion, const World3D& world, const Radar4DModel& model,
-                                        double rate, const Imu6Options& imu, std::uint64_t seed);
+                                        double rate, const Imu6Options& imu, std::uint64_t seed,
+                                        const Eigen::Isometry3d& mounting = Eigen::Isometry3d::Identity());
 
 }  // namespace sim
 }  // namespace radar_ndt

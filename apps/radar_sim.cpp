@@ -1,6 +1,7 @@
-// radar_sim: simulate a scanning-radar (Oxford Radar RobotCar or Boreas layout) or automotive-radar
-// (nuScenes layout) sequence along a trajectory, or compare simulated scans with real ones
-// (sim/realism.h). Its settings are the simulator's field tables (sim/sim_settings.h).
+// radar_sim: simulate a scanning-radar (Oxford Radar RobotCar or Boreas layout), automotive-radar
+// (nuScenes layout) or 4D radar (a ROS bag in its driver's layout, sim/sim_4d.h) sequence along a
+// trajectory, or compare simulated scans with real ones (sim/realism.h). Its settings are the
+// simulator's field tables (sim/sim_settings.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/sim/radar_sim.h"
 #include "sim/realism.h"
+#include "sim/sim_4d.h"
 #include "sim/sim_settings.h"
 
 using namespace radar_ndt;
@@ -23,6 +25,8 @@ constexpr double kYear2000 = 946684800.0;
 
 struct Args {
   std::string type = "scanning", layout = "oxford", trajectory, out, realism, realism_png, profile, imu = "none";
+  std::string preset = "ti_iwr6843_rio", sensors;
+  double rate = 0;
   std::int64_t start_stamp = 0;
   bool chirp_flags = false, list = false, markdown = false, quiet = false;
   std::size_t frames = 0, start = 0;
@@ -32,20 +36,41 @@ struct Args {
   std::vector<std::string> sets;
 };
 
+/// --type 4d's own options.
+void add4DOptions(po::options_description& o, Args& a) {
+  // clang-format off
+  o.add_options()
+    ("preset", po::value(&a.preset)->default_value("ti_iwr6843_rio"),
+     "--type 4d: the radar: ti_iwr6843_rio (hand-held; the bag as ti_mmwave_rospkg writes it, read by "
+     "preset:ti_iwr6843_rio) | ars548 (a car; Snail-Radar's /ars548, preset:snail_radar_ars548) | oculii_eagle (a "
+     "car; NTU4DRadLM's /radar_enhanced_pcl, preset:ntu4dradlm_eagle)")
+    ("sensors", po::value(&a.sensors),
+     "--type 4d: the sensor description whose topics, Doppler sign, radar mounting and IMU axes the bag follows "
+     "(a file or preset:NAME); default: the preset's")
+    ("rate", po::value(&a.rate)->default_value(0), "--type 4d: scans a second; 0: the radar's (ars548 20 Hz, others 10 Hz)");
+  // clang-format on
+}
+
+// Kept as one function: the option table, read in the order --help prints it.
 po::options_description options(Args& a) {
   po::options_description o("Options");
   // clang-format off
   o.add_options()
     ("help,h", "print this help and exit")
     ("type", po::value(&a.type)->default_value("scanning"),
-     "scanning (Oxford Radar RobotCar layout) | automotive (nuScenes layout)")
+     "scanning (Oxford Radar RobotCar layout) | automotive (nuScenes layout) | 4d (a 4D radar and a 6-axis IMU "
+     "along a 6-DoF motion: DIR/radar.bag in the radar's driver's layout, DIR/sensors.yaml that reads it, "
+     "DIR/groundtruth.txt (TUM), DIR/radar/<µs>.pcd)")
+
     ("layout", po::value(&a.layout)->default_value("oxford"),
      "scanning: oxford (radar.timestamps, radar/, gt/radar_odometry.csv) | boreas (radar/<stamp>.png named by the "
      "sweep's middle row, applanix/radar_poses.csv; the bin by the scans' date as Boreas: 0.0596 m and 3360 bins "
      "before 2021-09-21, 0.04381 m and 6848 after)")
     ("trajectory", po::value(&a.trajectory),
      "ego trajectory, KITTI, TUM or a Boreas pose file (applanix/radar_poses.csv: its times and place are kept "
-     "for --layout boreas) (e.g. ../shared/data/oxford-radar-gt/*.txt); default: a built-in 2-minute city drive")
+     "for --layout boreas) (e.g. ../shared/data/oxford-radar-gt/*.txt); default: a built-in 2-minute city drive. "
+     "--type 4d: the body's 6-DoF motion, TUM (e.g. ../shared/data/handheld-6dof/*.txt) or a Boreas pose file "
+     "(its 6-DoF poses); default: a built-in hand-held walk (ti_iwr6843_rio) or car drive with a ramp")
     ("start-stamp", po::value(&a.start_stamp),
      "the first scan's time (µs since 1970); default, --layout boreas: the trajectory's own time when it is a "
      "date (a Boreas pose file's; a TUM file timed from 0 is not), else 1547120000000000 (2019-01-10)")
@@ -58,7 +83,8 @@ po::options_description options(Args& a) {
      "also write a gyro of this grade: none | mems (a consumer MEMS gyro) | navigation (navigation grade, as "
      "Boreas's Applanix); --layout boreas: applanix/imu.csv; --type automotive: the CAN bus as nuScenes' "
      "(can_bus/<scene>_ms_imu.json, 100 Hz, and the wheel speeds, <scene>_zoe_veh_info.json); its errors are the "
-     "imu_* and wheel_* settings (--list-settings)")
+     "imu_* and wheel_* settings (--list-settings); --type 4d: a 6-axis IMU (gyro and accelerometer with "
+     "gravity, 200 Hz) on the description's IMU topic in its axes, mems the rio rig's ADIS16448")
     ("period", po::value(&a.period)->default_value(0.25), "s between poses of a trajectory without timestamps (KITTI)")
     ("out", po::value(&a.out), "output directory (created)")
     ("frames", po::value(&a.frames)->default_value(0),
@@ -87,6 +113,7 @@ po::options_description options(Args& a) {
      "with --realism-png: show ±this many metres around the sensor")
     ("quiet,q", po::bool_switch(&a.quiet), "no progress line");
   // clang-format on
+  add4DOptions(o, a);
   return o;
 }
 
@@ -158,8 +185,8 @@ void writeSequence(const po::variables_map& vm, const Args& a, apps::SimConfig c
 }
 
 void checkArgs(const Args& a) {
-  if (a.type != "scanning" && a.type != "automotive")
-    throw std::invalid_argument("--type must be scanning or automotive, not '" + a.type + "'");
+  if (a.type != "scanning" && a.type != "automotive" && a.type != "4d")
+    throw std::invalid_argument("--type must be scanning, automotive or 4d, not '" + a.type + "'");
   if (a.layout != "oxford" && a.layout != "boreas")
     throw std::invalid_argument("--layout must be oxford or boreas, not '" + a.layout + "'");
   if (a.layout == "boreas" && a.type != "scanning")
@@ -170,7 +197,26 @@ void checkArgs(const Args& a) {
         "--imu is for --layout boreas (the only scanning layout with an IMU file) or --type automotive");
 }
 
+int run4D(const Args& a) {
+  if (!a.realism.empty() || a.list || a.layout != "oxford" || !a.sets.empty())
+    throw std::invalid_argument(
+        "--type 4d takes --preset, --sensors, --trajectory, --imu, --rate, --frames, --seed "
+        "and --out");
+  apps::Sim4DRequest r;
+  r.preset = a.preset;
+  r.sensors = a.sensors;
+  r.trajectory = a.trajectory;
+  r.imu = a.imu;
+  r.out = a.out;
+  r.rate = a.rate;
+  r.frames = a.frames;
+  r.seed = a.seed;
+  apps::writeSequence4D(r);
+  return 0;
+}
+
 int run(const po::variables_map& vm, const Args& a) {
+  if (a.type == "4d") return run4D(a);
   // --realism: the real scans first, so the profile can default to their layout's.
   apps::RealismRequest realism;
   if (!a.realism.empty()) realism.real = apps::readRealScans(a.realism, realism.layout);
@@ -230,6 +276,8 @@ int main(int argc, char** argv) {
       "Usage: radar_sim --type scanning|automotive [--layout oxford|boreas] [--trajectory GT.txt] --out DIR [--frames "
       "N] "
       "[--seed S] [--start K]\n"
+      "       radar_sim --type 4d --preset ti_iwr6843_rio|ars548|oculii_eagle [--trajectory TUM_OR_BOREAS_POSES] "
+      "[--imu none|mems|navigation] --out DIR\n"
       "       radar_sim --realism OXFORD_BOREAS_OR_RADIATE_DIR [--profile P] [--trajectory GT.txt] [--frames N] "
       "[--realism-png out.png]\n"
       "Scanning: DIR/radar/<stamp>.png, DIR/radar.timestamps, DIR/gt/radar_odometry.csv (Oxford conventions)\n"

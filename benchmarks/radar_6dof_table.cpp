@@ -20,10 +20,14 @@
 #include "radar_ndt/evaluation/metrics_6dof.h"
 #include "radar_ndt/frontend/ego_velocity_3d.h"
 #include "radar_ndt/io/boreas_ground_truth.h"
+#include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/odometry/doppler_imu.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/sim/motion_6dof.h"
+#ifdef RADAR_NDT_WITH_ROS
+#include "radar_ndt/ros/rosbag_sequence.h"
+#endif
 
 using namespace radar_ndt;
 namespace po = boost::program_options;
@@ -85,6 +89,71 @@ std::string scanStatistics(const Case& c, const sim::Radar4DSequence& seq) {
 }
 
 std::vector<std::string> statistics_rows;
+
+/// The range bands the TI preset is calibrated in (m).
+const std::vector<double> kBands = {0.5, 2, 4, 8, 20};
+
+/// Per range band: detections a scan, elevation (deg), power, and |Doppler residual| (m/s) against
+/// the scan's own 3D ego-velocity (valid scans only), as rows "| source | band | ... |".
+std::string bandRows(const std::string& source, const std::vector<pcl::PointCloud<PointRadar4D>>& scans) {
+  const EgoVelocity3DEstimator estimator;
+  std::string out;
+  for (std::size_t b = 0; b + 1 < kBands.size(); ++b) {
+    std::vector<double> elevation, power, residual;
+    for (const auto& scan : scans) {
+      const EgoVelocity3D e = estimator.estimate(scan);
+      for (const PointRadar4D& p : scan) {
+        const Eigen::Vector3d q(p.x, p.y, p.z);
+        const double r = q.norm();
+        if (!(r >= kBands[b] && r < kBands[b + 1])) continue;
+        elevation.push_back(std::asin(p.z / r) * 180 / kPi);
+        power.push_back(p.power);
+        if (e.valid) residual.push_back(std::abs(p.doppler - predictedDoppler3D(q, e.velocity)));
+      }
+    }
+    const double per_scan =
+        static_cast<double>(elevation.size()) / static_cast<double>(std::max<std::size_t>(1, scans.size()));
+    out += "| " + source + " | " + fmt(kBands[b], "%.1f") + "–" + fmt(kBands[b + 1], "%.0f") + " | " +
+           fmt(per_scan, "%.1f") + " | " + percentiles(elevation, "%.0f") + " | " + percentiles(power, "%.1f") + " | " +
+           percentiles(residual, "%.2f") + " |\n";
+  }
+  return out;
+}
+
+/// The real rio bag's scans (the TI driver's intensity as the power), radar frame.
+std::vector<pcl::PointCloud<PointRadar4D>> rioScans(const std::string& bag) {
+  std::vector<pcl::PointCloud<PointRadar4D>> scans;
+#ifdef RADAR_NDT_WITH_ROS
+  SensorDescription d = readSensorDescription("preset:ti_iwr6843_rio");
+  d.radars[0].fields.power = "intensity";
+  const ros1::RosbagRadarSequence seq(bag, d);
+  for (std::size_t k = 0; k < seq.size(); ++k) {
+    const RadarCycle c = seq.load(k);
+    pcl::PointCloud<PointRadar4D> scan;
+    for (const auto& sweep : c.sweeps)
+      for (const PointRadar& p : sweep.points) {
+        PointRadar4D q(p.x, p.y, p.z, p.power);
+        q.doppler = p.doppler;
+        scan.push_back(q);
+      }
+    scans.push_back(scan);
+  }
+#else
+  throw std::invalid_argument("--rio-bag " + bag + ": built without ROS");
+#endif
+  return scans;
+}
+
+/// The TI preset along a hand-held case at the rig's own mounting (the preset description's), for
+/// the comparison per range band with the real bag.
+std::string tiBandRows(const Case& c, std::uint64_t seed) {
+  const sim::Motion6Dof motion(c.trajectory);
+  const SensorDescription d = readSensorDescription("preset:ti_iwr6843_rio");
+  const sim::Radar4DSequence seq =
+      sim::simulateRadar4DSequence(motion, sim::worldAlongPath(motion, false, seed), sim::radar4DPreset(c.preset),
+                                   c.rate, sim::imu6Preset("none"), seed, d.radars[0].mounting->transform());
+  return bandRows("simulated, " + c.driver, seq.scans);
+}
 
 void runCase(const Case& c, std::uint64_t seed, const std::string& write_dir) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -153,6 +222,23 @@ std::vector<Case> buildCases(const std::vector<std::string>& handheld, const std
   return cases;
 }
 
+/// The real TI bag's scans per range band beside the TI preset's along each hand-held case; 1 on error.
+int printBandTable(const std::string& rio_bag, const std::vector<Case>& cases, std::uint64_t seed) {
+  try {
+    std::printf(
+        "\nPer range band (5th / 50th / 95th percentiles; |Doppler residual| against the scan's own 3D "
+        "ego-velocity):\n\n| scans | range (m) | detections a scan | elevation (deg) | power | |Doppler residual| "
+        "(m/s) |\n|---|---|---|---|---|---|\n%s",
+        bandRows("the real rio bag", rioScans(rio_bag)).c_str());
+    for (const Case& c : cases)
+      if (c.preset == "ti_iwr6843_rio") std::printf("%s", tiBandRows(c, seed).c_str());
+  } catch (const std::exception& e) {
+    std::cerr << "radar_6dof_table: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -160,7 +246,7 @@ int main(int argc, char** argv) {
   std::string boreas;
   double boreas_seconds = 120;
   std::uint64_t seed = 1;
-  std::string write_dir;
+  std::string write_dir, rio_bag;
   po::options_description desc(
       "radar_6dof_table: doppler-imu on the 4D simulator driven by real 6-DoF motion, scored with the 6-DoF "
       "metrics.\nUsage: radar_6dof_table --handheld FILE... [--boreas POSES.csv]\nOptions");
@@ -171,7 +257,10 @@ int main(int argc, char** argv) {
       "a Boreas applanix/radar_poses.csv: the ARS548 and Oculii presets, MEMS and navigation IMUs")(
       "boreas-seconds", po::value(&boreas_seconds)->default_value(120), "the Boreas drive's first seconds (0: all)")(
       "seed", po::value(&seed)->default_value(1), "the simulation's seed")(
-      "write", po::value(&write_dir), "a folder for each case's truth and estimate (TUM) for radar_eval");
+      "write", po::value(&write_dir), "a folder for each case's truth and estimate (TUM) for radar_eval")(
+      "rio-bag", po::value(&rio_bag),
+      "the real TI bag (../shared/data/ros-rio-ti-mmwave/ti_mmwave_rospkg_demo.bag): its scans per range band beside "
+      "the TI preset's along each hand-held trajectory, at the rig's mounting");
   po::variables_map vm;
   try {
     po::store(po::parse_command_line(argc, argv, desc), vm);
@@ -209,5 +298,5 @@ int main(int argc, char** argv) {
       "\nThe simulated scans (5th / 50th / 95th percentiles):\n\n| driver | preset | detections a scan | range (m) | "
       "azimuth (deg) | elevation (deg) | Doppler (m/s) |\n|---|---|---|---|---|---|---|\n");
   for (const auto& row : statistics_rows) std::printf("%s\n", row.c_str());
-  return 0;
+  return rio_bag.empty() ? 0 : printBandTable(rio_bag, cases, seed);
 }

@@ -188,7 +188,7 @@ World3D worldAlongPath(const Motion6Dof& motion, bool car, std::uint64_t seed) {
       if (!car) w.patches.push_back({{c.x() - 1.5, c.y() - 1.5, c.z() + above}, {3, 0, 0}, {0, 3, 0}, -8.f});
     }
     for (int s : {-1, 1}) {
-      const double offset = car ? rng.uniform(8, 15) : rng.uniform(1.2, 2.0);
+      const double offset = car ? rng.uniform(8, 15) : rng.uniform(2.5, 7.0);
       const double size = car ? rng.uniform(0.8, 2.0) : 0.35, height = car ? rng.uniform(6, 20) : above + below;
       if (rng.chance(car ? 0.3 : 0.15)) continue;  // a gap, a door
       const Eigen::Vector3d q = c + s * offset * side;

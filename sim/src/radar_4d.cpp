@@ -166,15 +166,18 @@ Radar4DModel radar4DPreset(const std::string& name) {
     // TI IWR6843AOP as the rio rig runs it: a wide antenna-on-package field of view, an office's
     // ranges, a few dozen detections a scan.
     m.azimuth_fov_deg = 130;
-    m.elevation_fov_deg = 100;
+    m.elevation_fov_deg = 70;
     m.min_range = 0.5;
     m.max_range = 20;
     m.accuracy = {0.05, 3.0, 6.0};
-    m.doppler_sigma = 0.05;
-    m.rays = 60;
+    m.doppler_sigma = 0.03;
+    m.rays = 110;
     m.detection_probability = 0.7;
     m.false_alarms = 2;
     m.ghost_fraction = 0.05;
+    m.snr_offset = 17;
+    m.snr_sigma = 5;
+    m.min_snr = 6;
   } else if (name == "ars548") {
     // Continental ARS548 RDI: long range, ±60° azimuth, a narrow elevation, up to 800 detections.
     m.azimuth_fov_deg = 120;
@@ -223,8 +226,11 @@ pcl::PointCloud<PointRadar4D> simulateScan4D(const World3D& world, const Pose3& 
     if (!(rn > m.min_range)) return;
     PointRadar4D p(static_cast<float>(rn * std::cos(en) * std::cos(an)),
                    static_cast<float>(rn * std::cos(en) * std::sin(an)), static_cast<float>(rn * std::sin(en)));
-    // Power as an SNR in dB (the TI driver's intensity): RCS less the two-way spreading loss.
-    p.power = static_cast<float>(std::max(1.0, 30.0 + rcs - 20.0 * std::log10(std::max(rn, 1.0)) + 2.0 * rng.normal()));
+    // Power as an SNR in dB (the TI driver's intensity): RCS less the two-way spreading loss; below
+    // the driver's threshold the detection is not reported.
+    const double snr = m.snr_offset + rcs - 20.0 * std::log10(std::max(rn, 1.0)) + m.snr_sigma * rng.normal();
+    if (m.min_snr > 0 && snr < m.min_snr) return;
+    p.power = static_cast<float>(std::max(1.0, snr));
     p.rcs = rcs;
     p.doppler = static_cast<float>(radial + m.doppler_sigma * rng.normal());
     out.push_back(p);

@@ -62,3 +62,27 @@ TEST(Radar4D, PairTruthPlacesTheSourceOnTheMap) {
   }
   EXPECT_GT(close, static_cast<int>(0.8 * pair.source.size()));
 }
+
+TEST(Radar4D, ADriversThresholdLeavesNoWeakDetectionAndThinsTheFarOnes) {
+  // The TI preset reports only what its driver's CFAR threshold passes (min_snr): no detection
+  // under it, and, as the SNR falls with range, fewer far detections than the same radar without it.
+  const World3D world = corridorWorld(4);
+  Pose3 pose = Pose3::Identity();
+  pose.translation() << -20, -18.8, 1.3;  // in the south corridor, looking along it
+  const Radar4DModel m = radar4DPreset("ti_iwr6843_rio");
+  ASSERT_GT(m.min_snr, 0.0);
+  Radar4DModel open = m;
+  open.min_snr = 0;
+  std::size_t far = 0, far_open = 0, points = 0;
+  for (std::uint64_t k = 0; k < 50; ++k) {
+    for (const auto& p : simulateScan4D(world, pose, Eigen::Vector3d(1, 0, 0), m, 2, k)) {
+      EXPECT_GE(p.power, m.min_snr);
+      far += Eigen::Vector3d(p.x, p.y, p.z).norm() > 8.0;
+      ++points;
+    }
+    for (const auto& p : simulateScan4D(world, pose, Eigen::Vector3d(1, 0, 0), open, 2, k))
+      far_open += Eigen::Vector3d(p.x, p.y, p.z).norm() > 8.0;
+  }
+  EXPECT_GT(points, 50u * 10);
+  EXPECT_LT(far, far_open);
+}

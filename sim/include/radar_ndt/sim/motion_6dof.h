@@ -90,7 +90,7 @@ Imu6Options imu6Preset(const std::string& grade);
 /// `o`'s errors from `seed`.
 std::vector<ImuSample> simulateImu6(const Motion6Dof& motion, const Imu6Options& o, std::uint64_t seed);
 
-/// A world around a path: for a hand-held rig (`car` false) corridors of walls 1.2-2 m either side
+/// A world around a path: for a hand-held rig (`car` false) corridors of walls 2.5-7 m either side
 /// with doors, pillars, a floor 1.2 m below and a ceiling 1.6 m above the rig; for a car buildings
 /// 8-15 m either side with gaps, poles, parked cars and the ground 1.5 m below the radar, following
 /// the path's height. Nothing is placed within 1 m of any part of the path.

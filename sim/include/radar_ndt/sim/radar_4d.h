@@ -64,6 +64,11 @@ struct Radar4DModel {
   double detection_probability = 0.9;                    ///< of a ray that hits
   double false_alarms = 5;                               ///< mean false detections a scan
   double ghost_fraction = 0.02;                          ///< detections mirrored below the ground
+  /// Power as an SNR (dB): snr_offset + RCS − 20 log10(range) + N(0, snr_sigma²).
+  double snr_offset = 30.0, snr_sigma = 2.0;
+  /// Detections whose SNR falls below it are not reported (a driver's CFAR threshold, dB); 0: every
+  /// hit is, its SNR floored at 1.
+  double min_snr = 0.0;
 };
 /// The presets: "ti_iwr6843_rio", "ars548", "oculii_eagle"; std::invalid_argument otherwise.
 Radar4DModel radar4DPreset(const std::string& name);

@@ -11,7 +11,10 @@
 #include <stdexcept>
 #include <string>
 
+#include <pcl/registration/ndt.h>
+
 #include "radar_ndt/frontend/point_covariance.h"
+#include "radar_ndt/odometry/matcher_registry_3d.h"
 #include "radar_ndt/registration/detail/ndt_cost_3d.h"
 #include "radar_ndt/registration/weighted_ndt_3d.h"
 #include "radar_ndt/se2.h"
@@ -292,4 +295,50 @@ TEST(SphericalCovariance, RangeAlongTheBeamAnglesAcrossIt) {
   const Eigen::Vector3d u = p.normalized();
   EXPECT_NEAR(u.dot(sphericalCovariance(p, a) * u), 0.01, 1e-9);
   EXPECT_EQ(sphericalCovariance(Eigen::Vector3d::Zero(), a), Eigen::Matrix3d::Zero());
+}
+
+TEST(Matcher3DRegistry, EachBuiltinAlignsAPairByNameWithItsSettings) {
+  // The registry's 3D matchers, made by name as the 6-DoF pipeline and radar_ndt3d_bench make them:
+  // each aligns an Oculii-like pair from 1 m and 5° through pcl::Registration, with the settings
+  // given (PCL's NDT at its resolution, ours at its grid), and counts its iterations.
+  EXPECT_EQ(matcher3DNames(), (std::vector<std::string>{"pw-ndt-3d", "pcl-ndt-3d", "pcl-gicp"}));
+  Matcher3DOptions options;
+  options.ndt.resolutions = {3.0f, 1.5f};
+  options.pcl_ndt_resolution = 2.5;
+  const auto pair = pairOf("oculii_eagle", 0);
+  for (const std::string& name : matcher3DNames()) {
+    const Matcher3DEntry& e = findMatcher3D(name);
+    const std::shared_ptr<Registration3D> reg = e.make(options);
+    const Pose3 est = alignPair(*reg, pair);
+    EXPECT_LT((est.translation() - pair.truth.translation()).norm(), 0.3) << name;
+    EXPECT_LT(rotationErrorDeg(est, pair.truth), 1.0) << name;
+    EXPECT_GT(e.iterations(*reg), 0) << name;
+    EXPECT_EQ(e.point_covariances, name == "pw-ndt-3d");
+  }
+  using Ours = WeightedNDT3D<PointRadar4D, PointRadar4D>;
+  using PclNdt = pcl::NormalDistributionsTransform<PointRadar4D, PointRadar4D>;
+  const auto ours = findMatcher3D("pw-ndt-3d").make(options);
+  EXPECT_EQ(static_cast<Ours&>(*ours).getResolutions(), options.ndt.resolutions);
+  const auto pcl_ndt = findMatcher3D("pcl-ndt-3d").make(options);
+  EXPECT_FLOAT_EQ(static_cast<PclNdt&>(*pcl_ndt).getResolution(), 2.5f);
+}
+
+TEST(Matcher3DRegistry, UnknownNamesAndBadEntriesAreRefusedByName) {
+  try {
+    findMatcher3D("gicp");
+    ADD_FAILURE() << "an unknown name was found";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'gicp' (pw-ndt-3d, pcl-ndt-3d, pcl-gicp)"), std::string::npos) << e.what();
+  }
+  Matcher3DEntry copy = findMatcher3D("pcl-gicp");
+  EXPECT_THROW(registerMatcher3D(copy), std::invalid_argument);  // the name is taken
+  copy.name = "my-gicp";
+  copy.iterations = nullptr;
+  EXPECT_THROW(registerMatcher3D(copy), std::invalid_argument);
+  copy.iterations = findMatcher3D("pcl-gicp").iterations;
+  registerMatcher3D(copy);
+  EXPECT_EQ(matcher3DNames().back(), "my-gicp");
+  Matcher3DOptions bad;
+  bad.gicp_max_correspondence = -1;
+  EXPECT_THROW(bad.validate(), std::invalid_argument);
 }

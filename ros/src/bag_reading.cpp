@@ -161,7 +161,10 @@ bool MotionTopics::take(const rosbag::MessageInstance& m, StampRule& stamps, std
       ++imu_dropped_;
     } else {
       ++imu_messages_;
-      imu_.emplace_back(microseconds(stamps(imu->header.stamp, m, problems)), rate);
+      const std::int64_t t = microseconds(stamps(imu->header.stamp, m, problems));
+      imu_.emplace_back(t, rate);
+      if (gyro.allFinite() && f.allFinite())
+        imu6_.push_back({static_cast<double>(t) * 1e-6, imuRotation(d_) * gyro, imuRotation(d_) * f});
     }
   }
   if (topic == d_.speed_topic) {

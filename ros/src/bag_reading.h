@@ -16,6 +16,7 @@
 #include <rosbag/bag.h>
 #include <rosbag/message_instance.h>
 
+#include "radar_ndt/io/imu_sample.h"
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/io/vehicle_signals.h"
@@ -105,6 +106,9 @@ class MotionTopics {
   void finish(std::shared_ptr<const VehicleSignals>& signals, Trajectory& ground_truth,
               std::vector<std::string>& problems);
   std::size_t imuMessages() const { return imu_messages_; }
+  /// The IMU's messages with a finite gyro and accelerometer, turned into the base frame's axes
+  /// (imu_mounting), at the description's stamps; moved out.
+  std::vector<ImuSample> takeImuSamples() { return std::move(imu6_); }
   ProblemLog& log() { return log_; }
 
  private:
@@ -115,6 +119,7 @@ class MotionTopics {
   std::string path_;
   MountingTree tree_;
   std::vector<std::pair<std::int64_t, double>> imu_, speed_;
+  std::vector<ImuSample> imu6_;
   std::vector<std::pair<std::int64_t, Eigen::Isometry3d>> poses_;
   std::size_t imu_dropped_ = 0, imu_messages_ = 0, speed_dropped_ = 0;
   Eigen::Vector3d gravity_sum_ = Eigen::Vector3d::Zero();  ///< the first messages' specific force, base frame

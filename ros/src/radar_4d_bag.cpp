@@ -93,7 +93,7 @@ sensor_msgs::PointCloud eagleCloud(const pcl::PointCloud<PointRadar4D>& scan, do
 /// The IMU's readings turned into its described axes, on the description's IMU topic.
 std::size_t writeImu(rosbag::Bag& bag, const SensorDescription& d, const Radar4DRecording& r, const std::string& path) {
   const Eigen::Matrix3d imu_axes = imuRotation(d).transpose();  // base frame's axes into the IMU's
-  for (const Radar4DRecording::ImuReading& s : r.imu) {
+  for (const ImuSample& s : r.imu) {
     sensor_msgs::Imu m;
     m.header.stamp = stampOf(s.t, path);
     m.header.frame_id = "imu";

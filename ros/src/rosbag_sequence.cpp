@@ -154,6 +154,7 @@ void BagReader::finish() {
                                                  : "no message could be read; the first: " + first_error_[i]));
   finishMountings();
   motion_.finish(s_.signals_, s_.ground_truth_, s_.problems_);
+  s_.imu_ = motion_.takeImuSamples();
   s_.stats_.imu_messages = motion_.imuMessages();
   s_.stats_.ground_truth_poses = s_.ground_truth_.size();
   // Time order, channel order at equal times (as a nuScenes scene's sweeps); a radar's repeated

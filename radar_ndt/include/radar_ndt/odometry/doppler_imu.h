@@ -16,17 +16,10 @@
 #include <Eigen/Geometry>
 
 #include "radar_ndt/fields.h"
+#include "radar_ndt/io/imu_sample.h"
 #include "radar_ndt/io/trajectory_io.h"
 
 namespace radar_ndt {
-
-/// One IMU message in the body frame: the gyro (rad/s) and the accelerometer's specific force
-/// (m/s²: at rest it reads +g along the body's up).
-struct ImuSample {
-  double t = 0;  ///< s
-  Eigen::Vector3d gyro = Eigen::Vector3d::Zero();
-  Eigen::Vector3d accel = Eigen::Vector3d::Zero();
-};
 
 /// The body's velocity (m/s, body axes) at time t, as bodyVelocity() gives it from one scan.
 struct BodyVelocitySample {

@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 #include <pcl/point_cloud.h>
 
+#include "radar_ndt/io/imu_sample.h"
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/point_types.h"
@@ -34,14 +35,9 @@ enum class Radar4DBagLayout { TiMmwave, SnailArs548, NtuEagle };
 /// intensity or power, rcs in dB m²), the IMU's readings in the base frame's axes, the base
 /// frame's poses in the world.
 struct Radar4DRecording {
-  struct ImuReading {
-    double t = 0;                                     ///< s
-    Eigen::Vector3d gyro = Eigen::Vector3d::Zero();   ///< rad/s
-    Eigen::Vector3d accel = Eigen::Vector3d::Zero();  ///< m/s², specific force
-  };
   std::vector<double> stamps;  ///< s, one a scan
   std::vector<pcl::PointCloud<PointRadar4D>> scans;
-  std::vector<ImuReading> imu;
+  std::vector<ImuSample> imu;
   Trajectory truth;
 };
 

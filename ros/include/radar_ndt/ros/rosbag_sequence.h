@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/io/imu_sample.h"
 #include "radar_ndt/io/radar_cycle.h"
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/io/trajectory_io.h"
@@ -49,6 +50,10 @@ class RosbagRadarSequence : public RadarCycleSource {
   const std::vector<std::string>& channels() const { return channels_; }
   /// The vehicle's yaw rate from the IMU topic (no wheel speeds); null without an IMU topic.
   std::shared_ptr<const VehicleSignals> vehicleSignals() const { return signals_; }
+  /// The IMU's messages as 6-axis readings turned into the base frame's axes (`imu_mounting`), at
+  /// the description's stamps, in the bag's order; those with a non-finite value left out. Empty
+  /// without an IMU topic.
+  const std::vector<ImuSample>& imuSamples() const { return imu_; }
   /// The ground truth as read (vehicle poses in the parent frame, stamped), before planning.
   const Trajectory& groundTruthPoses() const { return ground_truth_; }
   /// What reading met that concerns the whole bag (stamps taken from receive times, messages left
@@ -71,6 +76,7 @@ class RosbagRadarSequence : public RadarCycleSource {
   std::vector<CyclePlan> plans_;
   std::vector<std::string> silences_, problems_;
   std::shared_ptr<const VehicleSignals> signals_;
+  std::vector<ImuSample> imu_;
   Trajectory ground_truth_;
   BagReadStats stats_;
   friend class BagReader;

@@ -28,6 +28,23 @@ void openForWriting(rosbag::Bag& bag, const std::string& path, BagCompression co
                                                           : rosbag::compression::Uncompressed);
 }
 
+nav_msgs::Odometry odometryMessage(const Eigen::Isometry3d& pose, const ros::Time& stamp, const std::string& parent,
+                                   const std::string& child) {
+  nav_msgs::Odometry o;
+  o.header.stamp = stamp;
+  o.header.frame_id = parent;
+  o.child_frame_id = child;
+  const Eigen::Quaterniond q(pose.linear());
+  o.pose.pose.position.x = pose.translation().x();
+  o.pose.pose.position.y = pose.translation().y();
+  o.pose.pose.position.z = pose.translation().z();
+  o.pose.pose.orientation.w = q.w();
+  o.pose.pose.orientation.x = q.x();
+  o.pose.pose.orientation.y = q.y();
+  o.pose.pose.orientation.z = q.z();
+  return o;
+}
+
 std::string seconds(const ros::Time& t) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%u.%06u s", t.sec, t.nsec / 1000);

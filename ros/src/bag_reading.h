@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <rosbag/message_instance.h>
 
@@ -38,6 +39,10 @@ constexpr const char* kTwistStamped = "geometry_msgs/TwistStamped";
 
 /// Opens `path` for writing (replaced), its chunks compressed as asked (the writers').
 void openForWriting(rosbag::Bag& bag, const std::string& path, BagCompression compression);
+
+/// A pose as the nav_msgs/Odometry the bag writers put on /gt: `pose` of `child` in `parent`.
+nav_msgs::Odometry odometryMessage(const Eigen::Isometry3d& pose, const ros::Time& stamp, const std::string& parent,
+                                   const std::string& child);
 
 /// "12.345678 s", for messages.
 std::string seconds(const ros::Time& t);

@@ -115,19 +115,8 @@ std::size_t writeGroundTruth(rosbag::Bag& bag, const SensorDescription& d, const
                              const std::string& path) {
   const std::string topic = d.ground_truth_topic.empty() ? "/gt" : d.ground_truth_topic;
   for (std::size_t i = 0; i < truth.size(); ++i) {
-    nav_msgs::Odometry o;
-    o.header.stamp = stampOf(truth.stamps[i], path);
-    o.header.frame_id = d.ground_truth_parent;
-    o.child_frame_id = d.ground_truth_child;
-    const Eigen::Isometry3d& T = truth.poses[i];
-    const Eigen::Quaterniond q(T.linear());
-    o.pose.pose.position.x = T.translation().x();
-    o.pose.pose.position.y = T.translation().y();
-    o.pose.pose.position.z = T.translation().z();
-    o.pose.pose.orientation.w = q.w();
-    o.pose.pose.orientation.x = q.x();
-    o.pose.pose.orientation.y = q.y();
-    o.pose.pose.orientation.z = q.z();
+    const nav_msgs::Odometry o = detail::odometryMessage(truth.poses[i], stampOf(truth.stamps[i], path),
+                                                         d.ground_truth_parent, d.ground_truth_child);
     bag.write(topic, o.header.stamp, o);
   }
   return truth.size();

@@ -41,18 +41,8 @@ ScanBagStats writeScanBag(const ScanningSequence& sequence, const std::string& p
     }
     const Trajectory& gt = sequence.groundTruth();
     for (std::size_t i = 0; i < gt.size(); ++i) {
-      nav_msgs::Odometry o;
-      o.header.stamp = rosTime(static_cast<std::int64_t>(std::llround(gt.stamps[i] * 1e6)));
-      o.header.frame_id = "world";
-      o.child_frame_id = "navtech";
-      const Eigen::Quaterniond q(gt.poses[i].linear());
-      o.pose.pose.position.x = gt.poses[i].translation().x();
-      o.pose.pose.position.y = gt.poses[i].translation().y();
-      o.pose.pose.position.z = gt.poses[i].translation().z();
-      o.pose.pose.orientation.w = q.w();
-      o.pose.pose.orientation.x = q.x();
-      o.pose.pose.orientation.y = q.y();
-      o.pose.pose.orientation.z = q.z();
+      const nav_msgs::Odometry o = detail::odometryMessage(
+          gt.poses[i], rosTime(static_cast<std::int64_t>(std::llround(gt.stamps[i] * 1e6))), "world", "navtech");
       bag.write("/gt", o.header.stamp, o);
       ++stats.ground_truth;
     }

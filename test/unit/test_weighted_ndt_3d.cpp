@@ -342,3 +342,24 @@ TEST(Matcher3DRegistry, UnknownNamesAndBadEntriesAreRefusedByName) {
   bad.gicp_max_correspondence = -1;
   EXPECT_THROW(bad.validate(), std::invalid_argument);
 }
+
+TEST(Matcher3DRegistry, EachBuiltinTakesAScanSparserThanAGicpNeighbourhood) {
+  // A sparse 4D scan (a TI scan holds tens of detections): PCL's GICP reads 20 neighbours of each
+  // point, so the registry's pcl-gicp does not run on fewer points; every matcher returns with a
+  // finite transformation and does not crash.
+  const auto pair = pairOf("oculii_eagle", 0);
+  pcl::PointCloud<PointRadar4D>::Ptr few(new pcl::PointCloud<PointRadar4D>);
+  for (std::size_t i = 0; i < 12; ++i) few->push_back(pair.source[i * 7]);
+  for (const std::string& name : matcher3DNames()) {
+    const std::shared_ptr<Registration3D> reg = findMatcher3D(name).make(Matcher3DOptions{});
+    reg->setInputSource(few);
+    reg->setInputTarget(few);
+    pcl::PointCloud<PointRadar4D> out;
+    reg->align(out, Eigen::Matrix4f::Identity());
+    EXPECT_TRUE(reg->getFinalTransformation().allFinite()) << name;
+    if (name == "pcl-gicp") {
+      EXPECT_FALSE(reg->hasConverged());
+      EXPECT_TRUE(reg->getFinalTransformation().isIdentity());
+    }
+  }
+}

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "radar_ndt/odometry/inertial_filter.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/se3.h"
 
@@ -49,47 +50,13 @@ std::vector<ImuSample> cleanImu(std::vector<ImuSample> imu, double max_gap, std:
   return out;
 }
 
-/// The rotation that takes the specific force `f` (body axes) onto the world's up, with no yaw:
-/// the starting roll and pitch.
-Eigen::Matrix3d levelling(const Eigen::Vector3d& f) {
-  return Eigen::Quaterniond::FromTwoVectors(f.normalized(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-}
-
 /// Roll, pitch and the gyro's bias from the first initial_seconds of `imu` (said in `result`'s
 /// problems when the accelerometer's gravity is off the body's z, or the rig was not still).
 Eigen::Matrix3d startingAttitude(const std::vector<ImuSample>& imu, const DopplerImuOptions& o,
                                  DopplerImuResult& result) {
-  Eigen::Vector3d f0 = Eigen::Vector3d::Zero(), w0 = Eigen::Vector3d::Zero();
-  std::size_t n0 = 0;
-  double norm_min = 1e9, norm_max = 0;
-  for (const ImuSample& s : imu) {
-    if (s.t > imu.front().t + o.initial_seconds && n0 > 0) break;
-    f0 += s.accel;
-    w0 += s.gyro;
-    norm_min = std::min(norm_min, s.accel.norm());
-    norm_max = std::max(norm_max, s.accel.norm());
-    ++n0;
-  }
-  f0 /= double(n0);
-  w0 /= double(n0);
-  // An accelerometer whose gravity is not along the body's z: the IMU's axes are not what the
-  // description says (the question rio's users ask most). The run goes on from what it reads.
-  const double tilt = std::acos(std::clamp(f0.normalized().z(), -1.0, 1.0)) * 180.0 / kPi;
-  if (tilt > 45.0)
-    result.problems.push_back(
-        format("the accelerometer reads gravity along (%.2f, %.2f, %.2f) m/s^2 at the start, "
-               "%.0f degrees from the body's z (up): check the IMU's axes and mounting",
-               f0.x(), f0.y(), f0.z(), tilt));
-  const bool still = norm_max - norm_min < 0.1 * o.gravity && w0.norm() < 0.05;
-  if (still)
-    result.gyro_bias = w0;
-  else
-    result.problems.push_back(
-        format("the rig was not still in the first %.2f s (accelerometer %.2f to %.2f m/s^2): "
-               "no gyro bias taken",
-               o.initial_seconds, norm_min, norm_max));
-
-  return levelling(f0);
+  const StillStart start = readStillStart(imu, o.initial_seconds, o.gravity, result.problems);
+  result.gyro_bias = start.gyro_bias;
+  return start.attitude;
 }
 
 /// The body velocity at a time: linear between the valid samples around it, held beyond the ends;

@@ -1,0 +1,152 @@
+#pragma once
+// 6-DoF odometry for a 4D radar, with or without an IMU: the paper's method carried to 3D and to
+// the fusion its conclusion asks for. Each scan:
+//  1. front-end: the radar's 3D Doppler velocity (ego_velocity_3d.h); its inliers are the static
+//     world, the rest (moving objects, ghosts) are left out of matching; the body velocity follows
+//     from the mounting and the angular velocity;
+//  2. prior: with an IMU, the inertial filter (inertial_filter.h) carried to the scan's time, the
+//     gyro turning and the Doppler velocity moving it, then gravity holding roll and pitch; radar
+//     only, the last scan's rotation rate and the Doppler velocity;
+//  3. match: the scan (body frame) against the local map of recent keyframes (local_map_3d.h) by a
+//     3D matcher of the registry (matcher_registry_3d.h: pw-ndt-3d, pcl-ndt-3d, pcl-gicp), from
+//     the prior;
+//  4. fusion: with an IMU, the match updates the filter with its covariance (WeightedNDT3D's,
+//     scaled, or a fixed one for matchers without one) and is refused beyond the gate; radar only,
+//     the match is the pose. No accepted match: the prior stands and the step says why.
+// Each part usable alone; doppler_imu.h is the baseline without matching.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <pcl/point_cloud.h>
+
+#include "radar_ndt/fields.h"
+#include "radar_ndt/frontend/ego_velocity_3d.h"
+#include "radar_ndt/io/imu_sample.h"
+#include "radar_ndt/odometry/inertial_filter.h"
+#include "radar_ndt/odometry/local_map_3d.h"
+#include "radar_ndt/odometry/matcher_registry_3d.h"
+#include "radar_ndt/point_types.h"
+
+namespace radar_ndt {
+
+struct RadarInertialOptions {
+  std::string method = "pw-ndt-3d";  ///< a 3D matcher of the registry
+  bool use_imu = true;               ///< false: radar only (IMU messages are ignored)
+  double min_range = 0.3;            ///< m: nearer detections are left out
+  double max_range = 300.0;          ///< m: farther ones too
+  std::size_t min_points = 6;        ///< static detections a scan needs to be matched
+  /// The match's covariance (WeightedNDT3D's own, the floors for matchers without one) is scaled
+  /// by a factor that starts here and follows the innovations at `match_scale_rate` a match.
+  double match_covariance_scale = 100.0;
+  double match_scale_rate = 0.05;
+  /// 1σ floors of a match (and the whole covariance of matchers that give none).
+  double match_sigma_translation = 0.05;  ///< m
+  double match_sigma_rotation_deg = 0.5;  ///< deg
+  /// Fused runs: whether the match's roll and pitch count. A 4D radar's elevation is coarse, so
+  /// by default gravity alone holds them and the match gives yaw and position.
+  bool match_roll_pitch = false;
+  double imu_time_offset = 0.0;  ///< s added to the IMU's stamps to bring them to the radar's clock
+  LocalMap3DOptions map;
+  EgoVelocity3DOptions ego_velocity;
+  InertialFilterOptions filter;
+  Matcher3DOptions matchers;
+  /// Throws std::invalid_argument naming the setting out of range or the unknown method.
+  void validate() const;
+  template <typename Visit>
+  static void fields(Visit&& visit);
+};
+
+template <typename Visit>
+void RadarInertialOptions::fields(Visit&& visit) {
+  using S = RadarInertialOptions;
+  visit(&S::min_range, Field("min_range", "nearer detections are left out").unit("m").atLeast(0));
+  visit(&S::max_range, Field("max_range", "farther detections are left out").unit("m").positive());
+  visit(&S::min_points, Field("min_points", "static detections a scan needs to be matched").atLeast(3));
+  visit(&S::match_covariance_scale,
+        Field("match_covariance_scale", "the match covariance's starting factor").positive());
+  visit(&S::match_scale_rate,
+        Field("match_scale_rate", "how fast that factor follows the innovations (log step a match)").atLeast(0));
+  visit(&S::match_sigma_translation,
+        Field("match_sigma_translation", "1 sigma floor of a match's translation").unit("m").positive());
+  visit(&S::match_sigma_rotation_deg,
+        Field("match_sigma_rotation_deg", "1 sigma floor of a match's rotation").unit("deg").positive());
+  visit(&S::match_roll_pitch, Field("match_roll_pitch", "fused runs: the match's roll and pitch count too"));
+  visit(&S::imu_time_offset,
+        Field("imu_time_offset", "added to the IMU's stamps to bring them to the radar's clock").unit("s"));
+  visit(&S::map, Field("map", "the local map"));
+  visit(&S::ego_velocity, Field("ego_velocity", "the 3D Doppler ego-velocity"));
+  visit(&S::filter, Field("filter", "the inertial filter"));
+  visit(&S::matchers, Field("matchers", "the 3D matchers' settings"));
+}
+
+/// What one scan gave.
+struct OdometryStep3D {
+  double stamp = 0;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< body to the odometry frame
+  Matrix6d covariance = Matrix6d::Zero();                  ///< (δp, δθ), the filter's; radar only the match's
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();      ///< body axes, m/s (held when not valid)
+  bool velocity_valid = false;
+  bool matched = false;   ///< a match was accepted
+  bool fallback = false;  ///< no match accepted (not said of the first scan): the prior stands
+  bool skipped = false;   ///< no pose: before the IMU's still start was read (`why` says so)
+  std::string why;        ///< why not, when fallback
+  int iterations = 0;
+  double match_ms = 0;
+  std::size_t points = 0, static_points = 0;
+};
+
+class RadarInertialOdometry {
+ public:
+  /// `radar_to_body`: the radar's mounting. Validates `o` (std::invalid_argument).
+  explicit RadarInertialOdometry(const RadarInertialOptions& o = {},
+                                 const Eigen::Isometry3d& radar_to_body = Eigen::Isometry3d::Identity());
+  ~RadarInertialOdometry();
+  RadarInertialOdometry(const RadarInertialOdometry&) = delete;
+  RadarInertialOdometry& operator=(const RadarInertialOdometry&) = delete;
+
+  /// One IMU message (body axes, the IMU's clock). Messages not finite or not later than the last
+  /// are dropped and counted in problems().
+  void addImu(const ImuSample& sample);
+  /// One scan (radar frame, PointRadar4D with Doppler and covariances) at `stamp` (s). With an IMU,
+  /// scans before the IMU spans its still start (InertialFilterOptions::initial_seconds) are
+  /// skipped (their step has no pose, `skipped` set), as is a scan not later than the last.
+  OdometryStep3D addScan(double stamp, const pcl::PointCloud<PointRadar4D>& scan);
+
+  const LocalMap3D& map() const { return map_; }
+  const InertialFilter& filter() const { return filter_; }
+  /// Each problem met, said once with its figures (IMU messages dropped, gravity off the body's z, ...).
+  std::vector<std::string> problems() const;
+
+ private:
+  struct Motion;
+  Motion priorMotion(double stamp, const Eigen::Vector3d& velocity, const Eigen::Matrix3d& velocity_covariance);
+  void match(const pcl::PointCloud<PointRadar4D>::Ptr& source, OdometryStep3D& step);
+  /// Whether the scan at `stamp` gets a pose: later than the last, the filter started (from the
+  /// IMU's still start) when fused. Says why not in `step`.
+  bool ready(double stamp, OdometryStep3D& step);
+
+  RadarInertialOptions options_;
+  Eigen::Isometry3d radar_to_body_;
+  EgoVelocity3DEstimator ego_;
+  InertialFilter filter_;
+  LocalMap3D map_;
+  std::shared_ptr<Registration3D> matcher_;
+  const Matcher3DEntry* entry_ = nullptr;
+  std::size_t target_version_ = 0, map_version_ = 0;
+  std::vector<ImuSample> imu_;  ///< messages not yet used, time-ordered
+  ImuSample last_imu_;          ///< the IMU state's time and the reading it holds
+  std::size_t dropped_imu_ = 0;
+  std::vector<std::string> problems_;
+  bool started_ = false;
+  double last_stamp_ = 0;
+  Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();   ///< radar only
+  Eigen::Vector3d rotation_rate_ = Eigen::Vector3d::Zero();  ///< radar only: body axes, rad/s
+  Eigen::Vector3d last_velocity_ = Eigen::Vector3d::Zero();
+  double match_scale_ = 1;
+  Eigen::Matrix3d last_velocity_covariance_ = Eigen::Matrix3d::Identity();
+};
+
+}  // namespace radar_ndt

@@ -248,9 +248,16 @@ OdometryStep3D RadarInertialOdometry::addScan(double stamp, const Cloud& scan) {
   const Eigen::Vector3d omega_guess =
       options_.use_imu ? Eigen::Vector3d((imu_.empty() ? last_imu_ : imu_.back()).gyro - filter_.gyroBias())
                        : rotation_rate_;
-  const Eigen::Vector3d velocity = ego.valid ? bodyVelocity(radar_to_body_, ego.velocity, omega_guess) : last_velocity_;
+  Eigen::Vector3d velocity = ego.valid ? bodyVelocity(radar_to_body_, ego.velocity, omega_guess) : last_velocity_;
   const Eigen::Matrix3d velocity_cov =
       ego.valid ? bodyVelocityCovariance(radar_to_body_, ego.covariance) : Eigen::Matrix3d::Identity();
+  // Standing still: the Doppler velocity within its noise of zero (and, radar only, no turn since
+  // the last scan; with an IMU the gyro turns the prior whatever the scan says). The rig is taken
+  // as not moving (a zero-velocity update, as hand-held inertial navigation makes at each step):
+  // the velocity's noise is not integrated and the scan is not matched.
+  step.still = ego.valid && velocity.dot(velocity_cov.ldlt().solve(velocity)) < options_.still_velocity_chi2 &&
+               (options_.use_imu || rotation_rate_.norm() < options_.still_rate);
+  if (step.still) velocity.setZero();
   step.velocity = velocity;
   if (!started_) {
     if (options_.use_imu) {
@@ -270,20 +277,28 @@ OdometryStep3D RadarInertialOdometry::addScan(double stamp, const Cloud& scan) {
                             (velocity - last_velocity_) / dt + prior.angular_velocity.cross(velocity),
                             (velocity_cov + last_velocity_covariance_) / (dt * dt));
     step.pose = options_.use_imu ? filter_.pose() : prior.pose;
-    match(source, step);
-    step.fallback = !step.matched;
+    if (!(step.still && last_still_)) {
+      match(source, step);
+      step.fallback = !step.matched;
+    }
     if (!options_.use_imu && dt > 0) rotation_rate_ = logSO3(pose_.linear().transpose() * step.pose.linear()) / dt;
   }
   if (options_.use_imu) step.covariance = filter_.poseCovariance();
+  remember(step, velocity_cov, *source);
+  return step;
+}
+
+void RadarInertialOdometry::remember(const OdometryStep3D& step, const Eigen::Matrix3d& velocity_covariance,
+                                     const Cloud& source) {
   pose_ = step.pose;
-  last_velocity_ = velocity;
-  last_velocity_covariance_ = velocity_cov;
-  last_stamp_ = stamp;
-  if (map_.wantsKeyframe(step.pose) && !source->empty()) {
-    map_.add(*source, step.pose);
+  last_velocity_ = step.velocity;
+  last_velocity_covariance_ = velocity_covariance;
+  last_still_ = step.still;
+  last_stamp_ = step.stamp;
+  if (map_.wantsKeyframe(step.pose) && !source.empty()) {
+    map_.add(source, step.pose);
     ++map_version_;
   }
-  return step;
 }
 
 }  // namespace radar_ndt

@@ -48,6 +48,10 @@ struct RadarInertialOptions {
   /// Fused runs: whether the match's roll and pitch count. A 4D radar's elevation is coarse, so
   /// by default gravity alone holds them and the match gives yaw and position.
   bool match_roll_pitch = false;
+  /// Standing still: the Doppler velocity's squared Mahalanobis distance from zero below
+  /// still_velocity_chi2 (χ²(3) at 95 %) and, radar only, the turn rate below still_rate.
+  double still_velocity_chi2 = 7.81;
+  double still_rate = 0.02;      ///< rad/s
   double imu_time_offset = 0.0;  ///< s added to the IMU's stamps to bring them to the radar's clock
   LocalMap3DOptions map;
   EgoVelocity3DOptions ego_velocity;
@@ -74,6 +78,11 @@ void RadarInertialOptions::fields(Visit&& visit) {
   visit(&S::match_sigma_rotation_deg,
         Field("match_sigma_rotation_deg", "1 sigma floor of a match's rotation").unit("deg").positive());
   visit(&S::match_roll_pitch, Field("match_roll_pitch", "fused runs: the match's roll and pitch count too"));
+  visit(&S::still_velocity_chi2,
+        Field("still_velocity_chi2", "standing still: the Doppler velocity's chi-square from zero below this")
+            .atLeast(0));
+  visit(&S::still_rate,
+        Field("still_rate", "standing still, radar only: the turn rate below this").unit("rad/s").atLeast(0));
   visit(&S::imu_time_offset,
         Field("imu_time_offset", "added to the IMU's stamps to bring them to the radar's clock").unit("s"));
   visit(&S::map, Field("map", "the local map"));
@@ -91,6 +100,7 @@ struct OdometryStep3D {
   bool velocity_valid = false;
   bool matched = false;   ///< a match was accepted
   bool fallback = false;  ///< no match accepted (not said of the first scan): the prior stands
+  bool still = false;     ///< standing still: not moved, not matched (after a still scan)
   bool skipped = false;   ///< no pose: before the IMU's still start was read (`why` says so)
   std::string why;        ///< why not, when fallback
   int iterations = 0;
@@ -127,6 +137,9 @@ class RadarInertialOdometry {
   /// Whether the scan at `stamp` gets a pose: later than the last, the filter started (from the
   /// IMU's still start) when fused. Says why not in `step`.
   bool ready(double stamp, OdometryStep3D& step);
+  /// Keeps what the next scan needs of this one; a keyframe joins the local map.
+  void remember(const OdometryStep3D& step, const Eigen::Matrix3d& velocity_covariance,
+                const pcl::PointCloud<PointRadar4D>& source);
 
   RadarInertialOptions options_;
   Eigen::Isometry3d radar_to_body_;
@@ -146,6 +159,7 @@ class RadarInertialOdometry {
   Eigen::Vector3d rotation_rate_ = Eigen::Vector3d::Zero();  ///< radar only: body axes, rad/s
   Eigen::Vector3d last_velocity_ = Eigen::Vector3d::Zero();
   double match_scale_ = 1;
+  bool last_still_ = false;
   Eigen::Matrix3d last_velocity_covariance_ = Eigen::Matrix3d::Identity();
 };
 

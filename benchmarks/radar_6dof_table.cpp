@@ -3,8 +3,9 @@
 // becomes a smooth motion (radar_ndt/sim/motion_6dof.h); a world is built around its path; the
 // radar's scans and a 6-axis IMU are simulated along it; each method runs on them and is scored
 // against the motion with the 6-DoF metrics (rpg's ATE after position + yaw alignment, its
-// relative error, the final position error). Today's method: the doppler-imu baseline; part 2's
-// odometry adds its rows beside it.
+// relative error, the final position error). The rows (--methods): the doppler-imu baseline, the
+// IMU alone, and the 6-DoF odometry (odometry/radar_inertial_odometry.h) with each 3D matcher of
+// the registry, radar only and with the IMU fused.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -23,7 +24,9 @@
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/odometry/doppler_imu.h"
+#include "radar_ndt/odometry/radar_inertial_odometry.h"
 #include "radar_ndt/se2.h"
+#include "radar_ndt/se3.h"
 #include "radar_ndt/sim/motion_6dof.h"
 #ifdef RADAR_NDT_WITH_ROS
 #include "radar_ndt/ros/rosbag_sequence.h"
@@ -155,47 +158,180 @@ std::string tiBandRows(const Case& c, std::uint64_t seed) {
   return bandRows("simulated, " + c.driver, seq.scans);
 }
 
-void runCase(const Case& c, std::uint64_t seed, const std::string& write_dir) {
+/// One method's trajectory on a sequence, with its fallbacks and its time per scan.
+struct MethodRun {
+  Trajectory trajectory;
+  std::size_t fallbacks = 0;
+  double ms_per_scan = 0;
+  std::vector<std::string> problems;
+};
+
+double msPerScan(std::chrono::steady_clock::time_point t0, std::size_t scans) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() /
+         static_cast<double>(std::max<std::size_t>(1, scans));
+}
+
+/// doppler-imu: each scan's 3D Doppler velocity (the radar at the body's origin), the IMU.
+MethodRun runBaseline(const sim::Radar4DSequence& seq) {
   const auto t0 = std::chrono::steady_clock::now();
+  const EgoVelocity3DEstimator estimator;
+  std::vector<BodyVelocitySample> velocities;
+  for (std::size_t k = 0; k < seq.scans.size(); ++k) {
+    const EgoVelocity3D e = estimator.estimate(seq.scans[k]);
+    velocities.push_back({seq.stamps[k], e.velocity, e.valid});
+  }
+  const DopplerImuResult r = runDopplerImu(seq.imu, velocities);
+  MethodRun out{r.trajectory, 0, 0, r.problems};
+  out.ms_per_scan = msPerScan(t0, seq.scans.size());
+  return out;
+}
+
+/// The IMU alone: strapdown from the still start (roll, pitch, the gyro's bias), the
+/// accelerometer less gravity integrated twice; no radar.
+MethodRun runImuAlone(const sim::Radar4DSequence& seq) {
+  const auto t0 = std::chrono::steady_clock::now();
+  MethodRun out;
+  const InertialFilterOptions o;
+  const StillStart start = readStillStart(seq.imu, o.initial_seconds, o.gravity, out.problems);
+  Eigen::Matrix3d R = start.attitude;
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), p = Eigen::Vector3d::Zero();
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < seq.imu.size() && k < seq.stamps.size(); ++i) {
+    const ImuSample &a = seq.imu[i - 1], &b = seq.imu[i];
+    const double dt = b.t - a.t;
+    const Eigen::Matrix3d R0 = R;
+    R = R * expSO3((0.5 * (a.gyro + b.gyro) - start.gyro_bias) * dt);
+    const Eigen::Vector3d acc = 0.5 * (R0 * a.accel + R * b.accel) - o.gravity * Eigen::Vector3d::UnitZ();
+    p += v * dt + 0.5 * acc * dt * dt;
+    v += acc * dt;
+    for (; k < seq.stamps.size() && seq.stamps[k] <= b.t; ++k) {
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.linear() = R;
+      T.translation() = p;
+      out.trajectory.stamps.push_back(seq.stamps[k]);
+      out.trajectory.poses.push_back(T);
+    }
+  }
+  out.ms_per_scan = msPerScan(t0, seq.scans.size());
+  return out;
+}
+
+/// The 6-DoF odometry with `matcher`, the IMU fused or not, each IMU message handed over before
+/// the scans after it, as a live run would.
+MethodRun runOdometry(const sim::Radar4DSequence& seq, const std::string& matcher, bool imu) {
+  RadarInertialOptions o;
+  o.method = matcher;
+  o.use_imu = imu;
+  RadarInertialOdometry odometry(o);
+  MethodRun out;
+  std::size_t next_imu = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t k = 0; k < seq.scans.size(); ++k) {
+    for (; next_imu < seq.imu.size() && seq.imu[next_imu].t <= seq.stamps[k]; ++next_imu)
+      odometry.addImu(seq.imu[next_imu]);
+    const OdometryStep3D step = odometry.addScan(seq.stamps[k], seq.scans[k]);
+    if (step.skipped) continue;
+    out.trajectory.stamps.push_back(step.stamp);
+    out.trajectory.poses.push_back(step.pose);
+    out.fallbacks += step.fallback;
+  }
+  out.ms_per_scan = msPerScan(t0, seq.scans.size());
+  out.problems = odometry.problems();
+  return out;
+}
+
+/// The matcher's own error: each scan's static detections matched from its true pose against a
+/// local map placed at the true poses (the poses taken relative to the first, so that the map's
+/// coordinates stay small). Prints the error's percentiles and its mean in the body's axes
+/// (a bias) to stderr.
+void truthMatch(const sim::Radar4DSequence& seq, const std::string& matcher) {
+  const auto reg = findMatcher3D(matcher).make(Matcher3DOptions{});
+  LocalMap3D map;
+  const EgoVelocity3DEstimator estimator;
+  std::vector<double> translation, rotation, yaw;
+  Eigen::Vector3d bias = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < seq.scans.size(); ++k) {
+    std::vector<bool> inlier;
+    const EgoVelocity3D e = estimator.estimate(seq.scans[k], &inlier);
+    pcl::PointCloud<PointRadar4D>::Ptr source(new pcl::PointCloud<PointRadar4D>);
+    for (std::size_t i = 0; i < inlier.size(); ++i)
+      if (!e.valid || inlier[i]) source->push_back(seq.scans[k][i]);
+    const Eigen::Isometry3d T = seq.truth.poses[0].inverse() * seq.truth.poses[k];
+    if (!map.empty() && source->size() >= 6) {
+      reg->setInputTarget(pcl::PointCloud<PointRadar4D>::Ptr(new pcl::PointCloud<PointRadar4D>(*map.cloud())));
+      reg->setInputSource(source);
+      pcl::PointCloud<PointRadar4D> aligned;
+      reg->align(aligned, T.matrix().cast<float>());
+      const Eigen::Isometry3d M = toPose3(reg->getFinalTransformation());
+      translation.push_back((M.translation() - T.translation()).norm());
+      rotation.push_back(Eigen::AngleAxisd((T.inverse() * M).linear()).angle() * 180 / kPi);
+      yaw.push_back(logSO3(M.linear() * T.linear().transpose()).z() * 180 / kPi);
+      bias += T.linear().transpose() * (M.translation() - T.translation());
+    }
+    if (map.wantsKeyframe(T)) map.add(*source, T);
+  }
+  bias /= static_cast<double>(std::max<std::size_t>(1, translation.size()));
+  std::fprintf(stderr,
+               "%s from the truth: translation %s m, rotation %s deg, world yaw %s deg (5th / 50th / 95th); "
+               "mean translation error in the body's axes %.3f %.3f %.3f m\n",
+               matcher.c_str(), percentiles(translation, "%.3f").c_str(), percentiles(rotation, "%.2f").c_str(),
+               percentiles(yaw, "%.2f").c_str(), bias.x(), bias.y(), bias.z());
+}
+
+MethodRun runMethod(const sim::Radar4DSequence& seq, const std::string& method) {
+  if (method == "doppler-imu") return runBaseline(seq);
+  if (method == "imu") return runImuAlone(seq);
+  const std::string fused = "+imu";
+  const bool imu =
+      method.size() > fused.size() && method.compare(method.size() - fused.size(), fused.size(), fused) == 0;
+  return runOdometry(seq, imu ? method.substr(0, method.size() - fused.size()) : method, imu);
+}
+
+/// The median error of the scans' 3D Doppler velocity against the motion's, and the valid scans.
+std::pair<double, std::size_t> velocityError(const sim::Motion6Dof& motion, const sim::Radar4DSequence& seq) {
+  const EgoVelocity3DEstimator estimator;
+  std::vector<double> errors;
+  for (std::size_t k = 0; k < seq.scans.size(); ++k) {
+    const EgoVelocity3D e = estimator.estimate(seq.scans[k]);
+    if (e.valid)
+      errors.push_back((e.velocity - seq.truth.poses[k].linear().transpose() * motion.velocity(seq.stamps[k])).norm());
+  }
+  std::sort(errors.begin(), errors.end());
+  return {errors.empty() ? NAN : errors[errors.size() / 2], errors.size()};
+}
+
+void runCase(const Case& c, const std::vector<std::string>& methods, std::uint64_t seed, const std::string& write_dir) {
   const sim::Motion6Dof motion(c.trajectory);
   const sim::World3D world = sim::worldAlongPath(motion, c.car, seed);
   const sim::Radar4DSequence seq =
       sim::simulateRadar4DSequence(motion, world, sim::radar4DPreset(c.preset), c.rate, sim::imu6Preset(c.imu), seed);
   if (c.imu == "mems") statistics_rows.push_back(scanStatistics(c, seq));
-  // doppler-imu: each scan's 3D Doppler velocity (the radar at the body's origin), the IMU.
-  const EgoVelocity3DEstimator estimator;
-  std::vector<BodyVelocitySample> velocities;
-  std::size_t valid = 0;
-  std::vector<double> velocity_errors;
-  for (std::size_t k = 0; k < seq.scans.size(); ++k) {
-    const EgoVelocity3D e = estimator.estimate(seq.scans[k]);
-    velocities.push_back({seq.stamps[k], e.velocity, e.valid});
-    valid += e.valid;
-    if (e.valid)
-      velocity_errors.push_back(
-          (e.velocity - seq.truth.poses[k].linear().transpose() * motion.velocity(seq.stamps[k])).norm());
-  }
-  std::sort(velocity_errors.begin(), velocity_errors.end());
-  const double velocity_error = velocity_errors.empty() ? NAN : velocity_errors[velocity_errors.size() / 2];
-  const DopplerImuResult r = runDopplerImu(seq.imu, velocities);
-  const PosePairs pairs = associate(seq.truth, r.trajectory);
-  const AbsoluteError6Dof ate = absoluteTrajectoryError6Dof(pairs, TrajectoryAlignment::PositionYaw);
-  const FinalError final_error = finalPositionError(pairs);
-  std::string re;
-  for (double d : c.distances) {
-    const RelativeError e = relativeError(pairs, d);
-    re += " " + fmt(e.trans_mean_pct) + " / " + fmt(e.yaw_mean_deg) + " |";
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("| %s | %s | %s | %.0f | %zu | %zu | %s | %s | %s |%s %s | %.0f |\n", c.driver.c_str(), c.preset.c_str(),
-              c.imu.c_str(), motion.length(), seq.scans.size(), valid, fmt(velocity_error, "%.3f").c_str(),
-              fmt(ate.rmse_m).c_str(), fmt(ate.rot_rmse_deg).c_str(), re.c_str(), fmt(final_error.final_pct).c_str(),
-              seconds);
-  for (const auto& p : r.problems) std::fprintf(stderr, "%s %s: %s\n", c.driver.c_str(), c.preset.c_str(), p.c_str());
-  if (!write_dir.empty()) {
-    const std::string stem = write_dir + "/" + c.driver + "_" + c.preset + "_" + c.imu;
-    writeTum(stem + "_truth.tum", seq.truth);
-    writeTum(stem + "_doppler_imu.tum", r.trajectory);
+  const auto [velocity_error, valid] = velocityError(motion, seq);
+  if (!write_dir.empty()) writeTum(write_dir + "/" + c.driver + "_" + c.preset + "_" + c.imu + "_truth.tum", seq.truth);
+  for (const std::string& method : methods) {
+    if (method.rfind("truth:", 0) == 0) {
+      truthMatch(seq, method.substr(6));
+      continue;
+    }
+    const MethodRun r = runMethod(seq, method);
+    const PosePairs pairs = associate(seq.truth, r.trajectory);
+    const AbsoluteError6Dof ate = absoluteTrajectoryError6Dof(pairs, TrajectoryAlignment::PositionYaw);
+    const AbsoluteError6Dof ate_se3 = absoluteTrajectoryError6Dof(pairs, TrajectoryAlignment::SE3);
+    const FinalError final_error = finalPositionError(pairs);
+    std::string re;
+    for (double d : c.distances) {
+      const RelativeError e = relativeError(pairs, d);
+      re += " " + fmt(e.trans_mean_pct) + " / " + fmt(e.yaw_mean_deg) + " |";
+    }
+    std::printf("| %s | %s | %s | %s | %.0f | %zu | %zu | %s | %zu | %s | %s | %s |%s %s | %.2f |\n", c.driver.c_str(),
+                c.preset.c_str(), c.imu.c_str(), method.c_str(), motion.length(), seq.scans.size(), valid,
+                fmt(velocity_error, "%.3f").c_str(), r.fallbacks, fmt(ate.rmse_m).c_str(), fmt(ate_se3.rmse_m).c_str(),
+                fmt(ate.rot_rmse_deg).c_str(), re.c_str(), fmt(final_error.final_pct).c_str(), r.ms_per_scan);
+    std::fflush(stdout);
+    for (const auto& p : r.problems)
+      std::fprintf(stderr, "%s %s %s: %s\n", c.driver.c_str(), c.preset.c_str(), method.c_str(), p.c_str());
+    if (!write_dir.empty())
+      writeTum(write_dir + "/" + c.driver + "_" + c.preset + "_" + c.imu + "_" + method + ".tum", r.trajectory);
   }
 }
 
@@ -239,6 +375,36 @@ int printBandTable(const std::string& rio_bag, const std::vector<Case>& cases, s
   return 0;
 }
 
+/// "a,b,,c" as {"a", "b", "c"}.
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> out;
+  for (std::size_t a = 0; a <= text.size();) {
+    const std::size_t b = std::min(text.find(',', a), text.size());
+    if (b > a) out.push_back(text.substr(a, b - a));
+    a = b + 1;
+  }
+  return out;
+}
+
+/// The accuracy table: a row per case and method; 1 on error.
+int runCases(const std::vector<Case>& cases, const std::vector<std::string>& methods, std::uint64_t seed,
+             const std::string& write_dir) {
+  std::printf(
+      "| driver | preset | IMU | method | length (m) | scans | valid ego-velocities | ego-velocity median error (m/s) "
+      "| fallbacks | ATE posyaw (m) | ATE SE(3) (m) | rot. RMSE (deg) | RE short: %% / yaw deg | RE long: %% / yaw "
+      "deg | final (%%) | ms a scan |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Case& c : cases) {
+    try {
+      runCase(c, methods, seed, write_dir);
+    } catch (const std::exception& e) {
+      std::cerr << "radar_6dof_table: " << c.driver << " " << c.preset << ": " << e.what() << "\n";
+      return 1;
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -246,7 +412,7 @@ int main(int argc, char** argv) {
   std::string boreas;
   double boreas_seconds = 120;
   std::uint64_t seed = 1;
-  std::string write_dir, rio_bag;
+  std::string write_dir, rio_bag, methods_text = "doppler-imu";
   po::options_description desc(
       "radar_6dof_table: doppler-imu on the 4D simulator driven by real 6-DoF motion, scored with the 6-DoF "
       "metrics.\nUsage: radar_6dof_table --handheld FILE... [--boreas POSES.csv]\nOptions");
@@ -257,6 +423,10 @@ int main(int argc, char** argv) {
       "a Boreas applanix/radar_poses.csv: the ARS548 and Oculii presets, MEMS and navigation IMUs")(
       "boreas-seconds", po::value(&boreas_seconds)->default_value(120), "the Boreas drive's first seconds (0: all)")(
       "seed", po::value(&seed)->default_value(1), "the simulation's seed")(
+      "methods", po::value(&methods_text)->default_value(methods_text),
+      "comma-separated rows: doppler-imu; imu (the IMU alone); a 3D matcher of the registry (pw-ndt-3d, pcl-ndt-3d, "
+      "pcl-gicp) in the 6-DoF odometry, radar only, or with +imu the IMU fused (e.g. pw-ndt-3d+imu); truth:MATCHER "
+      "prints the matcher's own error from the true poses (stderr)")(
       "write", po::value(&write_dir), "a folder for each case's truth and estimate (TUM) for radar_eval")(
       "rio-bag", po::value(&rio_bag),
       "the real TI bag (../shared/data/ros-rio-ti-mmwave/ti_mmwave_rospkg_demo.bag): its scans per range band beside "
@@ -281,19 +451,7 @@ int main(int argc, char** argv) {
     std::cerr << "radar_6dof_table: " << e.what() << "\n";
     return 1;
   }
-  std::printf(
-      "| driver | preset | IMU | length (m) | scans | valid ego-velocities | ego-velocity median error (m/s) | "
-      "ATE posyaw (m) | "
-      "rot. RMSE (deg) | RE short: %% / yaw deg | RE long: %% / yaw deg | final (%%) | s |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-  for (const Case& c : cases) {
-    try {
-      runCase(c, seed, write_dir);
-    } catch (const std::exception& e) {
-      std::cerr << "radar_6dof_table: " << c.driver << " " << c.preset << ": " << e.what() << "\n";
-      return 1;
-    }
-  }
+  if (runCases(cases, splitList(methods_text), seed, write_dir) != 0) return 1;
   std::printf(
       "\nThe simulated scans (5th / 50th / 95th percentiles):\n\n| driver | preset | detections a scan | range (m) | "
       "azimuth (deg) | elevation (deg) | Doppler (m/s) |\n|---|---|---|---|---|---|---|\n");

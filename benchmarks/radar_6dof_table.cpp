@@ -258,7 +258,7 @@ void truthMatch(const sim::Radar4DSequence& seq, const std::string& matcher) {
       if (!e.valid || inlier[i]) source->push_back(seq.scans[k][i]);
     const Eigen::Isometry3d T = seq.truth.poses[0].inverse() * seq.truth.poses[k];
     if (!map.empty() && source->size() >= 6) {
-      reg->setInputTarget(pcl::PointCloud<PointRadar4D>::Ptr(new pcl::PointCloud<PointRadar4D>(*map.cloud())));
+      reg->setInputTarget(map.cloud());
       reg->setInputSource(source);
       pcl::PointCloud<PointRadar4D> aligned;
       reg->align(aligned, T.matrix().cast<float>());

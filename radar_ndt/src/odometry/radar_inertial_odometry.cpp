@@ -162,8 +162,8 @@ void RadarInertialOdometry::match(const Cloud::Ptr& source, OdometryStep3D& step
     step.why = map_.empty() ? "no local map yet" : "too few static detections to match";
     return;
   }
-  if (target_version_ != map_version_ || target_version_ == 0) {
-    matcher_->setInputTarget(Cloud::Ptr(new Cloud(*map_.cloud())));
+  if (target_version_ != map_version_) {  // the map is not empty here: at least one keyframe added
+    matcher_->setInputTarget(map_.cloud());
     target_version_ = map_version_;
   }
   matcher_->setInputSource(source);

@@ -414,7 +414,8 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   std::string write_dir, rio_bag, methods_text = "doppler-imu";
   po::options_description desc(
-      "radar_6dof_table: doppler-imu on the 4D simulator driven by real 6-DoF motion, scored with the 6-DoF "
+      "radar_6dof_table: the 6-DoF odometry, doppler-imu and the IMU alone on the 4D simulator driven by real 6-DoF "
+      "motion, scored with the 6-DoF "
       "metrics.\nUsage: radar_6dof_table --handheld FILE... [--boreas POSES.csv]\nOptions");
   desc.add_options()("help,h", "this help")(
       "handheld", po::value(&handheld)->multitoken(),

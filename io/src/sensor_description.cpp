@@ -196,6 +196,21 @@ void readAccuracy(const Node& n, RadarPointFields& f) {
   }
 }
 
+/// `spherical_accuracy: {range: M, azimuth_deg: D, elevation_deg: D}`, each > 0.
+void readSphericalAccuracy(const Node& n, RadarPointFields& f) {
+  n.expectMap({"range", "azimuth_deg", "elevation_deg"});
+  SphericalSigmas s;
+  double* value[] = {&s.range, &s.azimuth_deg, &s.elevation_deg};
+  const char* key[] = {"range", "azimuth_deg", "elevation_deg"};
+  for (int i = 0; i < 3; ++i) {
+    const auto c = n.child(key[i]);
+    if (!c) n.fail(std::string("missing key '") + key[i] + "' (1 sigma: range m, azimuth_deg and elevation_deg deg)");
+    *value[i] = c->number();
+    if (!(*value[i] > 0)) c->fail("must be > 0");
+  }
+  f.spherical = s;
+}
+
 /// `keep:` or `keep_doppler:`: field: [the integer values kept, ...].
 std::vector<std::pair<std::string, std::vector<int>>> keepLists(const Node& n, const char* key) {
   std::vector<std::pair<std::string, std::vector<int>>> lists;
@@ -216,7 +231,8 @@ std::vector<std::pair<std::string, std::vector<int>>> keepLists(const Node& n, c
 }
 
 RadarPointFields readFields(const Node& n) {
-  n.expectMap({"position", "doppler", "rcs", "power", "accuracy", "max_range", "keep", "keep_doppler"});
+  n.expectMap(
+      {"position", "doppler", "rcs", "power", "accuracy", "spherical_accuracy", "max_range", "keep", "keep_doppler"});
   RadarPointFields f;
   f.doppler = DopplerKind::None;
   if (const auto p = n.child("position")) {
@@ -232,6 +248,7 @@ RadarPointFields readFields(const Node& n) {
   f.rcs = textOr(n, "rcs", "");
   f.power = textOr(n, "power", "");
   if (const auto a = n.child("accuracy")) readAccuracy(*a, f);
+  if (const auto a = n.child("spherical_accuracy")) readSphericalAccuracy(*a, f);
   if (const auto r = n.child("max_range")) {
     f.max_range = r->number();
     if (!(f.max_range > 0)) r->fail("must be > 0 (m)");

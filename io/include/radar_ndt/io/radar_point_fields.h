@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,6 +32,13 @@ enum class AccuracyKind {
   Fixed,      ///< the same standard deviations (m) for every point, along the sensor's x and y
 };
 
+/// A 4D radar's accuracy as 1σ in its own spherical coordinates (range m, azimuth and elevation
+/// deg): what the 6-DoF pipeline's point covariances come from (frontend/point_covariance.h,
+/// sphericalCovariance). The planar pipelines do not read it.
+struct SphericalSigmas {
+  double range = 0, azimuth_deg = 0, elevation_deg = 0;
+};
+
 /// Which of a radar's fields hold what, and which detections are kept.
 struct RadarPointFields {
   std::string x = "x", y = "y", z = "z";  ///< z may be absent from the data (then 0)
@@ -41,9 +49,10 @@ struct RadarPointFields {
   std::string rcs;                   ///< radar cross section (dBsm); empty: none
   std::string power;                 ///< the matcher's weight (eq. 1); empty: 1 for every detection, as the paper
   AccuracyKind accuracy = AccuracyKind::Model;
-  std::string accuracy_x, accuracy_y;   ///< Ars408Rms, RmsFields: their fields
-  double sigma_x = 0.0, sigma_y = 0.0;  ///< Fixed: metres
-  double max_range = 150.0;             ///< detections beyond it dropped (m)
+  std::string accuracy_x, accuracy_y;        ///< Ars408Rms, RmsFields: their fields
+  double sigma_x = 0.0, sigma_y = 0.0;       ///< Fixed: metres
+  std::optional<SphericalSigmas> spherical;  ///< `spherical_accuracy:`; none: the run's setting
+  double max_range = 150.0;                  ///< detections beyond it dropped (m)
   /// Detections kept only when each listed field's value (rounded to an integer) is one of its
   /// values; a field the data lacks keeps every detection.
   std::vector<std::pair<std::string, std::vector<int>>> keep;

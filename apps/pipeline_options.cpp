@@ -17,6 +17,7 @@ namespace {
 
 using AutomotiveField = FieldOption<AutomotiveRunOptions>;
 using ScanningField = FieldOption<ScanningRunOptions>;
+using InertialField = FieldOption<InertialRunOptions>;
 
 const std::vector<AutomotiveField>& automotiveFields() {
   static const std::vector<AutomotiveField> fields = fieldOptions(AutomotiveRunOptions{});
@@ -24,6 +25,10 @@ const std::vector<AutomotiveField>& automotiveFields() {
 }
 const std::vector<ScanningField>& scanningFields() {
   static const std::vector<ScanningField> fields = fieldOptions(ScanningRunOptions{});
+  return fields;
+}
+const std::vector<InertialField>& inertialFields() {
+  static const std::vector<InertialField> fields = fieldOptions(InertialRunOptions{});
   return fields;
 }
 
@@ -106,6 +111,7 @@ std::vector<std::pair<std::string, std::vector<Side>>> pipelineSides() {
   std::map<std::string, std::vector<Side>> sides;
   addSides(automotiveFields(), "nuscenes", order, sides);
   addSides(scanningFields(), "scanning", order, sides);
+  addSides(inertialFields(), "6-DoF", order, sides);
   std::vector<std::pair<std::string, std::vector<Side>>> out;
   for (const std::string& name : order) out.emplace_back(name, sides[name]);
   return out;
@@ -212,6 +218,16 @@ Settings scanningSettings(const po::variables_map& vm) {
   const std::string format = vm["format"].as<std::string>();
   refuseUnused(vm, scanningFields(), format, format);
   return givenSettings(vm, scanningFields(), format);
+}
+
+bool asksInertial(const po::variables_map& vm) {
+  return vm["format"].as<std::string>() == "rosbag" && vm.count("method") &&
+         isInertialMethod(vm["method"].as<std::string>());
+}
+
+Settings inertialSettings(const po::variables_map& vm) {
+  refuseUnused(vm, inertialFields(), "", "rosbag with a 6-DoF --method");
+  return givenSettings(vm, inertialFields(), "");
 }
 
 AutomotiveRunOptions automotiveOptions(const po::variables_map& vm) {

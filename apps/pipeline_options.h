@@ -36,6 +36,9 @@ std::string pipelineOptionsMarkdown();
 /// sets nothing for --format is refused (std::invalid_argument naming it).
 Settings automotiveSettings(const boost::program_options::variables_map& vm);
 Settings scanningSettings(const boost::program_options::variables_map& vm);
+/// Whether the command line runs the 6-DoF pipeline: --format rosbag with a 6-DoF --method.
+bool asksInertial(const boost::program_options::variables_map& vm);
+Settings inertialSettings(const boost::program_options::variables_map& vm);
 
 /// The automotive run options the command line asks for (nuscenes); throws std::invalid_argument
 /// naming a bad value.

@@ -1,8 +1,10 @@
 // radar_odometry: radar odometry over a dataset sequence. --format nuscenes: the paper's automotive
 // pipeline (Doppler ego-velocity, probabilistic submap of N cycles, weighted NDT) on a nuScenes-
-// layout dataroot. --format oxford|radiate|boreas: the scanning pipeline (power threshold, weighted NDT
-// against keyframes with the paper's failure handling, motion compensation) on scan sequences.
-// Parses options, calls the library, writes and prints; the paper's tables are radar_paper_tables.
+// layout dataroot, or on a recording of point-cloud radars (--format rosbag; a 4D radar's with a
+// 6-DoF --method runs the 6-DoF pipeline). --format oxford|radiate|boreas: the scanning pipeline
+// (power threshold, weighted NDT against keyframes with the paper's failure handling, motion
+// compensation) on scan sequences. Parses options, calls the library, writes and prints; the
+// paper's tables are radar_paper_tables.
 #include <algorithm>
 #include <iostream>
 #include <memory>
@@ -23,10 +25,13 @@
 #include "radar_ndt/io/nuscenes.h"
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/odometry/local_map_3d.h"
 #include "radar_ndt/odometry/matcher_registry.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/odometry_run.h"
 #include "radar_ndt/pipeline/scanning_run.h"
+#include <pcl/filters/voxel_grid.h>
+#include <pcl/io/pcd_io.h>
 #ifdef RADAR_NDT_WITH_ROS
 #include "radar_ndt/ros/bag_reader.h"
 #endif
@@ -42,7 +47,8 @@ struct Outputs {
   std::string out, out_format, steps, plot, map, map_out, metric;
   double map_voxel = 0.2;
   bool eval = false, json = false, progress = false;
-  bool many = false;  ///< several scenes or sequences: file names get the run's name inserted
+  bool planar = false;  ///< 6-DoF runs: projected onto the plane (--planar)
+  bool many = false;    ///< several scenes or sequences: file names get the run's name inserted
   /// The failure lines of runs mostly not matched (failureText), printed last; the exit code is 1.
   std::shared_ptr<std::vector<std::string>> failures = std::make_shared<std::vector<std::string>>();
   /// `path` for run `name`: as given for one run, else NAME inserted before the extension.
@@ -124,6 +130,11 @@ struct RunMaps {
   }
 };
 
+/// Whether --planar is given to a planar run.
+bool planarOnPlanarRun(const po::variables_map& vm, PipelineKind pipeline) {
+  return vm["planar"].as<bool>() && pipeline != PipelineKind::Inertial;
+}
+
 /// The source the command line names (one scene or every scene, one sequence or several).
 std::vector<RunSource> sourcesOf(const po::variables_map& vm) {
   auto text = [&](const char* name) { return vm.count(name) ? vm[name].as<std::string>() : std::string(); };
@@ -157,13 +168,81 @@ json runOne(const OdometryRun& run, const Outputs& o, bool keyframe_maps, std::v
   return out;
 }
 
+/// The 6-DoF run's maps: --map, a top view of every scan's detections at its pose (x, y); --map-out,
+/// a 3D PCD (x y z intensity = power) of them in the odometry frame, one point a voxel.
+struct InertialMaps {
+  std::unique_ptr<TopViewMap> top;
+  pcl::PointCloud<pcl::PointXYZI>::Ptr points;
+  explicit InertialMaps(const Outputs& o) {
+    if (!o.map.empty()) top = std::make_unique<TopViewMap>(0.2);
+    if (!o.map_out.empty()) points.reset(new pcl::PointCloud<pcl::PointXYZI>);
+  }
+  InertialStepCallback callback() {
+    if (!top && !points) return nullptr;
+    return [this](std::size_t, const OdometryStep3D& step, const pcl::PointCloud<PointRadar4D>& body) {
+      const pcl::PointCloud<PointRadar4D> world = transformRadar4D(body, step.pose);
+      pcl::PointCloud<PointRadar> flat;
+      for (const PointRadar4D& p : world) {
+        if (points) {
+          pcl::PointXYZI q;
+          q.x = p.x, q.y = p.y, q.z = p.z, q.intensity = p.power;
+          points->push_back(q);
+        }
+        PointRadar q;
+        q.x = p.x, q.y = p.y, q.power = p.power;
+        flat.push_back(q);
+      }
+      if (top) top->add(flat, Pose2::Zero());
+    };
+  }
+  void write(const Outputs& o) const {
+    if (top) top->writePng(o.map);
+    if (!points) return;
+    pcl::PointCloud<pcl::PointXYZI> out;
+    if (o.map_voxel > 0 && !points->empty()) {
+      pcl::VoxelGrid<pcl::PointXYZI> grid;
+      grid.setInputCloud(points);
+      const float v = static_cast<float>(o.map_voxel);
+      grid.setLeafSize(v, v, v);
+      grid.filter(out);
+    } else {
+      out = *points;
+    }
+    if (out.empty() || pcl::io::savePCDFileBinary(o.map_out, out) != 0)
+      throw std::runtime_error(o.map_out + ": " + (out.empty() ? "no points to write" : "could not be written"));
+  }
+};
+
+/// One 6-DoF run: its maps, the run (projected onto the plane with --planar), its files and summary.
+json runOneInertial(const OdometryRun& run, const Outputs& o, std::vector<EvaluationReport>& reports) {
+  std::string why;
+  if (o.eval && !run.hasGroundTruth(&why)) throw std::invalid_argument("--eval: " + why);
+  InertialMaps maps(o);
+  InertialRunResult r = run.runInertial(apps::Progress{o.progress, run.name()}, maps.callback());
+  maps.write(o);
+  Outputs planar = o;
+  if (o.planar) {
+    r.estimate = projectToPlane(r.estimate);
+    r.ground_truth = projectToPlane(r.ground_truth);
+    if (planar.metric.empty()) planar.metric = "1m,kitti,ate";
+  }
+  std::optional<EvaluationReport> report;
+  json out = finish(r, run.name(), planar, report);
+  if (report) reports.push_back(*report);
+  return out;
+}
+
 /// Every run the command line names, through the library's one entry (OdometryRun): nuScenes
 /// scenes side by side, sequences one after the other.
 int runAll(const po::variables_map& vm, const Outputs& base) {
   const std::vector<RunSource> sources = sourcesOf(vm);
-  const PipelineKind pipeline = pipelineOf(sources.front());
-  const Settings given =
-      pipeline == PipelineKind::Automotive ? apps::automotiveSettings(vm) : apps::scanningSettings(vm);
+  const PipelineKind pipeline = apps::asksInertial(vm) ? PipelineKind::Inertial : pipelineOf(sources.front());
+  const Settings given = pipeline == PipelineKind::Inertial     ? apps::inertialSettings(vm)
+                         : pipeline == PipelineKind::Automotive ? apps::automotiveSettings(vm)
+                                                                : apps::scanningSettings(vm);
+  if (planarOnPlanarRun(vm, pipeline))
+    throw std::invalid_argument("--planar takes a 6-DoF run (--format rosbag with --method " + inertialMethodChoices() +
+                                ")");
   std::vector<OdometryRun> runs;
   for (const RunSource& source : sources)
     for (OdometryRun& r : OdometryRun::openAll(source, given)) runs.push_back(std::move(r));
@@ -188,7 +267,9 @@ int runAll(const po::variables_map& vm, const Outputs& base) {
         apps::Progress{o.progress, "scenes"});
   } else {
     for (const OdometryRun& run : runs) {
-      if (pipeline == PipelineKind::Automotive)
+      if (pipeline == PipelineKind::Inertial)
+        summaries.push_back(runOneInertial(run, o, reports));
+      else if (pipeline == PipelineKind::Automotive)
         summaries.push_back(runOne<AutomotiveRunResult>(
             run, o, false, reports,
             [&](const auto& progress, const auto& cb) { return run.runAutomotive(progress, cb); }));
@@ -235,6 +316,9 @@ po::options_description odometryOptions() {
      "write the map as a PCD in the first pose's frame: the keyframe scans' points (scanning) or every "
      "cycle's stationary detections (automotive), one point a voxel (one --sequence or --scene)")
     ("map-voxel", po::value<double>()->default_value(0.2), "--map-out: the voxel's side (m); 0: every point")
+    ("planar", po::bool_switch(),
+     "6-DoF runs: write and evaluate the trajectory projected onto the plane (x, y, heading; default metrics "
+     "1m,kitti,ate), for planar tables")
     ("show-options", po::bool_switch(),
      "print the options the run would use (every field by its path: the defaults for its radar, then the options "
      "given) as JSON, then exit; without a source, the library's defaults")
@@ -261,6 +345,11 @@ std::string usage() {
          "                      [--out traj.txt] [--eval] [--metric 1m|kitti|frame|ate|all] [--json] [--plot out.svg]\n"
          "       radar_odometry --format rosbag --bag FILE --sensors FILE.yaml|preset:NAME [the options of its radar's "
          "pipeline]\n"
+         "       radar_odometry --format rosbag --bag FILE --sensors FILE.yaml|preset:NAME --method " +
+         inertialMethodChoices() +
+         "\n"
+         "                      [--imu] [--radar-latency S] [--planar] [--out traj.txt] [--eval] [--map-out map.pcd]  "
+         "(a 4D radar: 6-DoF)\n"
          "       radar_odometry --format oxford|radiate|boreas --sequence DIR... [--method " +
          methodList(true) +
          "] [--grid G]\n"
@@ -279,6 +368,10 @@ std::string usage() {
          "motion-compensated and matched to the last keyframe from a constant-velocity guess, failures retried with\n"
          "the grid enlarged, then with s halved. Unreadable scans are reported and bridged with the motion model;\n"
          "bad index lines are reported and left out.\n"
+         "6-DoF (a 4D radar's recording and a 6-DoF --method): one pose per scan of one radar, the rig's frame,\n"
+         "z and the full rotation; each scan matched to a local map of recent keyframes from the prior (--imu: the\n"
+         "inertial filter; else the last turn rate and the Doppler velocity); doppler-imu integrates the IMU and the\n"
+         "Doppler velocity, no matching.\n"
          "A run whose steps were mostly not matched (too few points, fallbacks, unreadable files) says so in its\n"
          "last line and exits with code 1. Every option: docs/apps.md.";
 }
@@ -308,13 +401,16 @@ int showOptions(const po::variables_map& vm) {
   };
   if (has_source) {
     RunSource source = sourcesOf(vm).front();
-    const PipelineKind pipeline = pipelineOf(source);
+    const PipelineKind pipeline = apps::asksInertial(vm) ? PipelineKind::Inertial : pipelineOf(source);
     if (pipeline == PipelineKind::Automotive && source.format == "nuscenes" &&
         (source.scene == "all" || source.scene.empty()))
       source.scene = NuScenesDataset(source.path, source.version).scenes().at(0).name;
-    const OdometryRun run(
-        source, pipeline == PipelineKind::Automotive ? apps::automotiveSettings(vm) : apps::scanningSettings(vm));
-    if (pipeline == PipelineKind::Automotive)
+    const OdometryRun run(source, pipeline == PipelineKind::Inertial     ? apps::inertialSettings(vm)
+                                  : pipeline == PipelineKind::Automotive ? apps::automotiveSettings(vm)
+                                                                         : apps::scanningSettings(vm));
+    if (pipeline == PipelineKind::Inertial)
+      add(run.inertialOptions());
+    else if (pipeline == PipelineKind::Automotive)
       add(run.automotiveOptions());
     else
       add(run.scanningOptions());
@@ -357,6 +453,7 @@ int main(int argc, char** argv) {
     o.metric = text("metric");
     o.eval = vm["eval"].as<bool>();
     o.json = vm["json"].as<bool>();
+    o.planar = vm["planar"].as<bool>();
     o.progress = !vm["quiet"].as<bool>() && isatty(STDERR_FILENO);
     parseTrajectoryFormat(o.out_format);  // a bad value fails before the run
     if (!o.metric.empty()) parseMetrics(o.metric);

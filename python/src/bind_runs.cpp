@@ -54,6 +54,10 @@ ScanningRunResult runScanning(const OdometryRun& run) {
   py::gil_scoped_release release;
   return run.runScanning();
 }
+InertialRunResult runInertial(const OdometryRun& run) {
+  py::gil_scoped_release release;
+  return run.runInertial();
+}
 
 /// A {path: value} dict of every field (what radar_odometry --show-options prints).
 template <typename R>
@@ -114,7 +118,41 @@ void bindRunResult(py::class_<Result>& c) {
 
 }  // namespace
 
+/// The 6-DoF run's result (inertial_run.h).
+void bindInertialRun(py::module_& m) {
+  py::class_<InertialRunResult>(m, "InertialRun", "What run_rosbag returns for a 6-DoF method.")
+      .def_readonly("sequence", &InertialRunResult::sequence)
+      .def_readonly("method", &InertialRunResult::method)
+      .def_readonly("imu", &InertialRunResult::imu, "whether the IMU was fused")
+      .def_readonly("radar", &InertialRunResult::radar, "the radar that ran")
+      .def_readonly("prior", &InertialRunResult::prior, "what each match started from")
+      .def_readonly("period", &InertialRunResult::period_s)
+      .def_readonly("estimate", &InertialRunResult::estimate, "the estimated 6-DoF Trajectory (stamps in s)")
+      .def_readonly("ground_truth", &InertialRunResult::ground_truth, "the recording's, at the scans; may be empty")
+      .def_readonly("problems", &InertialRunResult::problems)
+      .def_readonly("scans", &InertialRunResult::scans)
+      .def_readonly("matched", &InertialRunResult::matched)
+      .def_readonly("fallbacks", &InertialRunResult::fallbacks)
+      .def_readonly("still", &InertialRunResult::still)
+      .def_readonly("seconds", &InertialRunResult::seconds)
+      .def_property_readonly(
+          "stamps", [](const InertialRunResult& r) { return stampsArray(r.estimate); },
+          "numpy.ndarray: (N,) estimate stamps (s)")
+      .def_property_readonly(
+          "poses", [](const InertialRunResult& r) { return posesArray(r.estimate); },
+          "numpy.ndarray: (N, 4, 4) estimated poses")
+      .def(
+          "summary", [](const InertialRunResult& r, const std::string& metrics) { return summaryOf(r, metrics); },
+          py::arg("metrics") = "",
+          "The run summary as radar_odometry --json gives it, as a dict; metrics ('default': ate6, re, final) "
+          "adds them against the ground truth, as --eval does.")
+      .def(
+          "steps_csv", [](const InertialRunResult& r) { return stepsCsv(r); },
+          "The per-scan CSV radar_odometry --steps writes, as text.");
+}
+
 void bindRunResults(py::module_& m) {
+  bindInertialRun(m);
   py::class_<ScanningRunResult> scanning(m, "ScanningRun", "What run_scanning returns.");
   bindRunResult(scanning);
   scanning.def_readonly("sequence", &ScanningRunResult::sequence)
@@ -172,10 +210,11 @@ void bindRunOptions(py::module_& m) {
       [](const std::string& pipeline) {
         if (pipeline == "automotive") return fieldsOf<AutomotiveRunOptions>();
         if (pipeline == "scanning") return fieldsOf<ScanningRunOptions>();
-        throw std::invalid_argument("option_fields: 'automotive' or 'scanning', not '" + pipeline + "'");
+        if (pipeline == "6dof") return fieldsOf<InertialRunOptions>();
+        throw std::invalid_argument("option_fields: 'automotive', 'scanning' or '6dof', not '" + pipeline + "'");
       },
       py::arg("pipeline"),
-      "The run options' field table of a pipeline ('automotive' or 'scanning'): for each field its path (the "
+      "The run options' field table of a pipeline ('automotive', 'scanning' or '6dof'): for each field its path (the "
       "keyword's, nested dicts for the dots), kind (bool, int, float, str, list), help, unit, bounds (low, high, "
       "low_open, high_open), an enumeration's names, the dataset layout it applies to alone, the command line's "
       "option (switch_sets: what its switch sets; spelled: a flag's two names), as radar_odometry --list-options "
@@ -246,13 +285,16 @@ void bindRosbagRun(py::module_& m) {
       [](const std::filesystem::path& bag, const std::string& sensors, const py::kwargs& kw) -> py::object {
         const auto run = openSource(RunSource{"rosbag", bag.string(), "", "", sensors}, kw);
         if (run->pipeline() == PipelineKind::Automotive) return py::cast(runAutomotive(*run));
+        if (run->pipeline() == PipelineKind::Inertial) return py::cast(runInertial(*run));
         return py::cast(runScanning(*run));
       },
       py::arg("bag"), py::arg("sensors"),
       "Runs the odometry over a ROS 1 bag as radar_odometry --format rosbag --bag BAG --sensors SENSORS does "
       "(a sensor description file, or 'preset:NAME'). Point-cloud radars: the automotive odometry, keywords "
       "as run_automotive's (sequence={'channels': [...], 'reference_channel': ..., 'filter': {'max_range': ...}} "
-      "choose the radars), an AutomotiveRun; a scanning radar's polar images: the scanning odometry, keywords "
+      "choose the radars), an AutomotiveRun; a 4D radar's with a 6-DoF method (matcher={'method': 'pw-ndt-3d'}, "
+      "'pcl-ndt-3d', 'pcl-gicp' or 'doppler-imu'; imu=True fuses the rig's IMU; InertialRunOptions fields), the "
+      "6-DoF odometry, an InertialRun; a scanning radar's polar images: the scanning odometry, keywords "
       "as run_scanning's, a ScanningRun. The GIL is released while it runs.");
 }
 

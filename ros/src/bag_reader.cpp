@@ -17,6 +17,7 @@ void registerBagReader() {
     auto bag = std::make_unique<const RosbagRadarSequence>(path, d);
     r.car = bag->vehicleSignals();
     r.problems = bag->problems();
+    r.imu = bag->imuSamples();
     r.cycles = std::move(bag);
     return r;
   });

@@ -17,6 +17,8 @@
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/odometry/doppler_imu.h"
 #include "radar_ndt/odometry/radar_inertial_odometry.h"
+#include "radar_ndt/pipeline/odometry_run.h"
+#include "radar_ndt/ros/bag_reader.h"
 #include "radar_ndt/ros/rosbag_sequence.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/sim/radar_4d.h"
@@ -178,38 +180,29 @@ TEST(Rosbag, DopplerImuRunsOnTheRioBag) {
   EXPECT_LT(length, 60.0);
 }
 
-// The 6-DoF odometry (radar_ndt/odometry/radar_inertial_odometry.h) on the real rio bag, fused and
-// radar only, each IMU message handed over before the scans after it (the scans' latency behind the
-// IMU taken off, as doppler-imu's). No ground truth: what the bag shows is each still stretch's
+// The 6-DoF run (radar_ndt/pipeline/inertial_run.h) on the real rio bag through the one entry as
+// radar_odometry --format rosbag --method pw-ndt-3d [--imu] --radar-latency 0.125 runs it, fused and
+// radar only, with the TI's accuracy. No ground truth: what the bag shows is each still stretch's
 // estimated displacement (the rig does not move), the estimate's roll and pitch against the
 // accelerometer's gravity at the still end, and the fallbacks.
 TEST(Rosbag, RadarInertialOdometryOnTheRioBag) {
   if (!fs::exists(kRio)) GTEST_SKIP() << "no " << kRio << " (../shared/data is absent)";
-  const ros1::RosbagRadarSequence seq(kRio, readSensorDescription("preset:ti_iwr6843_rio"));
+  ros1::registerBagReader();
   const std::vector<ImuSample> imu = readImu();
   const SphericalAccuracy accuracy = sim::radar4DPreset("ti_iwr6843_rio").accuracy;
   for (const bool fused : {true, false}) {
-    RadarInertialOptions o;
-    o.use_imu = fused;
-    const RadarCycle first = seq.load(0);
-    RadarInertialOdometry odometry(o, first.sweeps.at(0).sensor_to_vehicle);
+    const Settings given{{"matcher.method", FieldValue(std::string("pw-ndt-3d"))},
+                         {"imu", FieldValue(fused)},
+                         {"radar_latency", FieldValue(0.125)},
+                         {"accuracy.range_sigma", FieldValue(accuracy.range_sigma)},
+                         {"accuracy.azimuth_sigma_deg", FieldValue(accuracy.azimuth_sigma_deg)},
+                         {"accuracy.elevation_sigma_deg", FieldValue(accuracy.elevation_sigma_deg)}};
+    const OdometryRun run({"rosbag", kRio, "", "", "preset:ti_iwr6843_rio"}, given);
+    ASSERT_EQ(run.pipeline(), PipelineKind::Inertial);
+    const InertialRunResult result = run.runInertial();
     std::vector<OdometryStep3D> steps;
-    std::size_t next = 0;
-    for (std::size_t k = 0; k < seq.size(); ++k) {
-      const RadarCycle cycle = seq.load(k);
-      const RadarSweepData& sweep = cycle.sweeps.at(0);
-      const double t = static_cast<double>(sweep.timestamp_us) * 1e-6 - 0.125;
-      for (; next < imu.size() && imu[next].t <= t; ++next) odometry.addImu(imu[next]);
-      pcl::PointCloud<PointRadar4D> scan;
-      for (const PointRadar& p : sweep.points) {
-        PointRadar4D q(p.x, p.y, p.z, p.power);
-        q.doppler = p.doppler;
-        scan.push_back(q);
-      }
-      setPointCovariances(scan, Eigen::Matrix3d::Identity(), accuracy);
-      const OdometryStep3D step = odometry.addScan(t, scan);
-      if (!step.skipped) steps.push_back(step);
-    }
+    for (const OdometryStep3D& s : result.steps)
+      if (!s.skipped) steps.push_back(s);
     ASSERT_GT(steps.size(), 380u);
     // Still stretches: the Doppler body speed under 5 cm/s for at least 2 s.
     std::size_t fallbacks = 0;

@@ -14,6 +14,7 @@
 #include "radar_ndt/odometry/inertial_filter.h"
 #include "radar_ndt/odometry/local_map_3d.h"
 #include "radar_ndt/odometry/radar_inertial_odometry.h"
+#include "radar_ndt/pipeline/inertial_run.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/se3.h"
 #include "radar_ndt/sim/motion_6dof.h"
@@ -286,4 +287,31 @@ TEST(RadarInertialOdometry, SettingsAreChecked) {
   o = {};
   o.filter.gravity_sigma = -1;
   EXPECT_THROW(RadarInertialOdometry{o}, std::invalid_argument);
+}
+
+// projectToPlane: a tilted pose keeps its x, y and heading (where its x axis points in the plane),
+// loses z, roll and pitch; a heading is the x axis's, not the y axis's.
+TEST(InertialRun, ProjectToPlaneKeepsPositionAndHeading) {
+  Trajectory t;
+  for (const double yaw : {0.3, 2.0, -2.8}) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(-0.15, Eigen::Vector3d::UnitX()))
+                     .toRotationMatrix();
+    T.translation() = Eigen::Vector3d(1.5, -2.0, 3.0);
+    t.stamps.push_back(static_cast<double>(t.size()));
+    t.poses.push_back(T);
+  }
+  const Trajectory p = projectToPlane(t);
+  ASSERT_EQ(p.size(), t.size());
+  EXPECT_EQ(p.stamps, t.stamps);
+  const double yaws[] = {0.3, 2.0, -2.8};
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Pose2 q = toPose2(p.poses[i]);
+    EXPECT_NEAR(q.x(), 1.5, 1e-12);
+    EXPECT_NEAR(q.y(), -2.0, 1e-12);
+    EXPECT_NEAR(q.z(), yaws[i], 1e-12);  // z-y-x: the yaw is the x axis's heading
+    EXPECT_NEAR(p.poses[i].translation().z(), 0.0, 1e-12);
+  }
+  EXPECT_TRUE(isPlanar(p.poses));
 }

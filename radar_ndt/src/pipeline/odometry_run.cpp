@@ -18,15 +18,23 @@ std::string runFormats() {
   return enumChoices<DatasetFormat>();
 }
 
-PipelineKind pipelineOf(const RunSource& source) {
+namespace {
+/// Whether `given` asks for a 6-DoF method.
+bool asksInertial(const Settings& given) {
+  const Setting* m = findSetting(given, "matcher.method");
+  return m && m->value.kind() == FieldValue::Kind::Text && isInertialMethod(m->value.text());
+}
+}  // namespace
+
+PipelineKind pipelineOf(const RunSource& source, const Settings& given) {
   const DatasetFormat f = parseEnum<DatasetFormat>(source.format);
   if (f == DatasetFormat::NuScenes) return PipelineKind::Automotive;
   if (isScanLayout(f)) return PipelineKind::Scanning;
   if (source.sensors.empty())
     throw std::invalid_argument("format rosbag needs a sensor description (a YAML file, or preset:NAME)");
   const SensorDescription d = readSensorDescription(source.sensors);
-  return !d.radars.empty() && d.radars[0].kind == RadarKind::Scanning ? PipelineKind::Scanning
-                                                                      : PipelineKind::Automotive;
+  if (!d.radars.empty() && d.radars[0].kind == RadarKind::Scanning) return PipelineKind::Scanning;
+  return asksInertial(given) ? PipelineKind::Inertial : PipelineKind::Automotive;
 }
 
 struct OdometryRun::Impl {
@@ -35,6 +43,7 @@ struct OdometryRun::Impl {
   std::string name;
   AutomotiveRunOptions automotive;
   ScanningRunOptions scanning;
+  InertialRunOptions inertial;
   std::shared_ptr<const NuScenesDataset> dataset;  ///< nuscenes
   const NuScenesScene* scene = nullptr;
   std::unique_ptr<const ScanningSequence> sequence;  ///< oxford, radiate, boreas
@@ -72,9 +81,21 @@ SensorDescription describedSensors(SensorDescription d, const AutomotiveRunOptio
 namespace {
 
 /// How a setting the car's sensors need was asked for: as given, or by the method.
-std::string askedBy(const Settings& given, const char* path, const AutomotiveRunOptions& o) {
+std::string askedBy(const Settings& given, const char* path, const std::string& method) {
   const Setting* s = findSetting(given, path);
-  return s ? s->spelled() : "method " + o.matcher.method;
+  return s ? s->spelled() : "method " + method;
+}
+
+/// The defaults of a 6-DoF run of `reference` in `d`: each detection's accuracy its description's
+/// spherical_accuracy where it has one (the settings given go over them).
+InertialRunOptions describedDefaults(const SensorDescription& d, const std::string& reference) {
+  InertialRunOptions o;
+  for (const RadarDescription& radar : d.radars)
+    if (radar.name == reference && radar.fields.spherical) {
+      const SphericalSigmas& a = *radar.fields.spherical;
+      o.accuracy = {a.range, a.azimuth_deg, a.elevation_deg};
+    }
+  return o;
 }
 
 void openRecording(OdometryRun::Impl& r, const Settings& given) {
@@ -89,16 +110,29 @@ void openRecording(OdometryRun::Impl& r, const Settings& given) {
     r.name = r.recording.scans->name();
     return;
   }
+  if (asksInertial(given)) {  // a 4D radar's 6-DoF run: one radar, the rig's IMU
+    r.kind = PipelineKind::Inertial;
+    inertialRunOptions(given);  // a bad setting is said before the recording is read
+    r.recording = readRecording("rosbag", r.source.path, d);
+    r.inertial = inertialRunOptions(given, describedDefaults(d, r.recording.cycles->referenceChannel()));
+    if (r.inertial.imu && r.recording.imu.empty())
+      throw std::invalid_argument(askedBy(given, "imu", r.inertial.matcher.method) + ": " + r.source.sensors +
+                                  (d.imu_topic.empty()
+                                       ? " names no imu topic (docs/ros.md)"
+                                       : " names " + d.imu_topic + ", but the bag has no message on it"));
+    r.name = r.recording.cycles->sceneName();
+    return;
+  }
   r.automotive = automotiveRunOptions(given);
   r.recording = readRecording("rosbag", r.source.path, describedSensors(d, r.automotive, given));
   const auto& car = r.recording.car;
   const CarSensorOptions& wanted = r.automotive.odometry.car;
   if (wanted.wheels && (!car || car->speed.empty()))
-    throw std::invalid_argument(askedBy(given, "odometry.car.wheels", r.automotive) + ": " + r.source.sensors +
-                                " names no speed topic (docs/ros.md)");
+    throw std::invalid_argument(askedBy(given, "odometry.car.wheels", r.automotive.matcher.method) + ": " +
+                                r.source.sensors + " names no speed topic (docs/ros.md)");
   if (wanted.gyro && (!car || car->yaw_rate.empty()))
-    throw std::invalid_argument(askedBy(given, "odometry.car.gyro", r.automotive) + ": " + r.source.sensors +
-                                " names no imu topic (docs/ros.md)");
+    throw std::invalid_argument(askedBy(given, "odometry.car.gyro", r.automotive.matcher.method) + ": " +
+                                r.source.sensors + " names no imu topic (docs/ros.md)");
   if (!wanted.any()) r.recording.car = nullptr;
   r.name = r.recording.cycles->sceneName();
 }
@@ -172,13 +206,18 @@ const RunSource& OdometryRun::source() const {
 }
 
 const AutomotiveRunOptions& OdometryRun::automotiveOptions() const {
-  if (impl_->kind != PipelineKind::Automotive) throw std::logic_error(impl_->name + ": a scanning run");
+  if (impl_->kind != PipelineKind::Automotive) throw std::logic_error(impl_->name + ": not an automotive run");
   return impl_->automotive;
 }
 
 const ScanningRunOptions& OdometryRun::scanningOptions() const {
-  if (impl_->kind != PipelineKind::Scanning) throw std::logic_error(impl_->name + ": an automotive run");
+  if (impl_->kind != PipelineKind::Scanning) throw std::logic_error(impl_->name + ": not a scanning run");
   return impl_->scanning;
+}
+
+const InertialRunOptions& OdometryRun::inertialOptions() const {
+  if (impl_->kind != PipelineKind::Inertial) throw std::logic_error(impl_->name + ": not a 6-DoF run");
+  return impl_->inertial;
 }
 
 bool OdometryRun::hasGroundTruth(std::string* why_not) const {
@@ -221,6 +260,14 @@ ScanningRunResult OdometryRun::runScanning(const Progress& progress, const StepC
   const ScanningRunOptions& o = scanningOptions();
   const ScanSource& scans = r.sequence ? static_cast<const ScanSource&>(*r.sequence) : *r.recording.scans;
   return runScanningOdometry(scans, o, progress, on_step);
+}
+
+InertialRunResult OdometryRun::runInertial(const Progress& progress, const InertialStepCallback& on_step) const {
+  const Impl& r = *impl_;
+  InertialRunResult out =
+      runInertialOdometry(*r.recording.cycles, r.recording.imu, inertialOptions(), progress, on_step);
+  out.problems.insert(out.problems.begin(), r.recording.problems.begin(), r.recording.problems.end());
+  return out;
 }
 
 void runSideBySide(const std::vector<OdometryRun>& runs,

@@ -74,6 +74,13 @@ ScanningRunOptions scanningRunOptions(const Settings& given, const std::string& 
   return o;
 }
 
+InertialRunOptions inertialRunOptions(const Settings& given, const InertialRunOptions& defaults) {
+  InertialRunOptions o = defaults;
+  for (const Setting& s : given) apply<InertialRunOptions, AutomotiveRunOptions>(o, s, "6-DoF", "automotive", "");
+  o.validate();
+  return o;
+}
+
 std::string settingsText(const Settings& given) {
   std::string out;
   for (const Setting& s : given) out += (out.empty() ? "" : ", ") + s.path + " = " + s.value.str();

@@ -87,6 +87,9 @@ class RadarCycleSource {
   /// The vehicle's ground-truth poses at the cycles' times, SE(2) and relative to the first cycle;
   /// empty when the source has none.
   virtual Trajectory groundTruthTrajectory() const = 0;
+  /// The ground truth as the source holds it, 6-DoF and stamped (s), in its own world frame: what
+  /// the 6-DoF pipeline is judged against. By default the planar one above.
+  virtual Trajectory groundTruth6Dof() const { return groundTruthTrajectory(); }
   /// Radars that fell silent (findRadarSilences).
   virtual const std::vector<std::string>& silences() const = 0;
   /// Reads cycle k's sweeps. A sweep that cannot be read is left out and described in `problems`;

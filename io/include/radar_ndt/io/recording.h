@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "radar_ndt/io/imu_sample.h"
 #include "radar_ndt/io/radar_cycle.h"
 #include "radar_ndt/io/scan_source.h"
 #include "radar_ndt/io/sensor_description.h"
@@ -22,6 +23,9 @@ struct Recording {
   std::unique_ptr<const RadarCycleSource> cycles;
   /// The car's own gyro and speed where the description names their topics (point-cloud radars).
   std::shared_ptr<const VehicleSignals> car;
+  /// The rig's 6-axis IMU in the base frame's axes, time-ordered, where the description names its
+  /// topic (point-cloud radars): what the 6-DoF pipeline fuses.
+  std::vector<ImuSample> imu;
   /// What reading the recording met, said once each (point-cloud radars; a scan source keeps its own).
   std::vector<std::string> problems;
   /// A scanning radar: its polar scans (null for point-cloud radars).

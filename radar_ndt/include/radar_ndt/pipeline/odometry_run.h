@@ -17,6 +17,7 @@
 
 #include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/pipeline/automotive_run.h"
+#include "radar_ndt/pipeline/inertial_run.h"
 #include "radar_ndt/pipeline/run_settings.h"
 #include "radar_ndt/pipeline/scanning_run.h"
 
@@ -31,14 +32,17 @@ struct RunSource {
   std::string sensors;  ///< rosbag: the sensor description (a YAML file, or preset:NAME)
 };
 
-enum class PipelineKind { Automotive, Scanning };
+/// Automotive and Scanning are planar; Inertial is the 6-DoF run of a 4D radar (inertial_run.h).
+enum class PipelineKind { Automotive, Scanning, Inertial };
 
 /// The formats a source may have, for messages: "nuscenes, rosbag, oxford, radiate, boreas".
 std::string runFormats();
 
 /// The pipeline a source runs: nuscenes automotive; oxford, radiate, boreas scanning; a recording
-/// by its description (one scanning radar: scanning; point-cloud radars: automotive, read here).
-PipelineKind pipelineOf(const RunSource& source);
+/// by its description (one scanning radar: scanning; point-cloud radars: automotive, read here),
+/// or, for point-cloud radars, the 6-DoF one when `given` asks for a 6-DoF method
+/// (matcher.method: isInertialMethod).
+PipelineKind pipelineOf(const RunSource& source, const Settings& given = {});
 
 /// A recording's description with the settings that say which radars run applied, as the
 /// offline run and the ROS node apply them: sequence.reference_channel and sequence.channels when
@@ -75,12 +79,15 @@ class OdometryRun {
   /// The options it runs with (std::logic_error for the other pipeline's).
   const AutomotiveRunOptions& automotiveOptions() const;
   const ScanningRunOptions& scanningOptions() const;
+  const InertialRunOptions& inertialOptions() const;
   /// Whether there is a ground truth to evaluate against; without, `why_not` says where it would be.
   bool hasGroundTruth(std::string* why_not = nullptr) const;
 
   /// Runs to the end (std::logic_error for the other pipeline's).
   AutomotiveRunResult runAutomotive(const Progress& progress = nullptr, const StepCallback& on_step = nullptr) const;
   ScanningRunResult runScanning(const Progress& progress = nullptr, const StepCallback& on_step = nullptr) const;
+  InertialRunResult runInertial(const Progress& progress = nullptr,
+                                const InertialStepCallback& on_step = nullptr) const;
 
   struct Impl;  ///< what was opened (opaque)
 

@@ -9,6 +9,7 @@
 
 #include "radar_ndt/field_values.h"
 #include "radar_ndt/pipeline/automotive_run.h"
+#include "radar_ndt/pipeline/inertial_run.h"
 #include "radar_ndt/pipeline/scanning_run.h"
 
 namespace radar_ndt {
@@ -52,6 +53,11 @@ AutomotiveRunOptions automotiveRunOptions(const Settings& given, const Automotiv
 /// automotive pipeline is.
 ScanningRunOptions scanningRunOptions(const Settings& given, const std::string& layout,
                                       const ScanningRunOptions& defaults = {});
+
+/// The 6-DoF run options `given` asks for, over `defaults`, validated: a recording of a 4D radar
+/// run with a 6-DoF method (isInertialMethod). SettingError as above, naming the automotive
+/// pipeline for its settings.
+InertialRunOptions inertialRunOptions(const Settings& given, const InertialRunOptions& defaults = {});
 
 /// The settings as one line, "path = value, ..." (the node prints what it was given).
 std::string settingsText(const Settings& given);

@@ -42,6 +42,7 @@ class RosbagRadarSequence : public RadarCycleSource {
   std::size_t size() const override { return plans_.size(); }
   std::int64_t timestamp(std::size_t k) const override { return sweeps_[plans_[k].reference].timestamp_us; }
   Trajectory groundTruthTrajectory() const override;
+  Trajectory groundTruth6Dof() const override { return ground_truth_; }
   const std::vector<std::string>& silences() const override { return silences_; }
   RadarCycle load(std::size_t k, std::vector<std::string>* problems = nullptr,
                   std::size_t* non_finite_dropped = nullptr) const override;

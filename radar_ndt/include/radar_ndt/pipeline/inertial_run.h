@@ -1,0 +1,134 @@
+#pragma once
+// The 6-DoF run of a 4D radar recording (issue: 4D radar, part 2): one radar's scans with the
+// rig's 6-axis IMU through the radar-inertial odometry (odometry/radar_inertial_odometry.h), radar
+// only by default, the IMU fused on request, or the doppler-imu baseline (odometry/doppler_imu.h).
+// The one entry (odometry_run.h) opens a recording and runs it here; the ROS node feeds
+// InertialStream message by message, so a live run and an offline one give the same poses.
+//
+//   const InertialRunResult r = runInertialOdometry(cycles, imu, inertialRunOptions({{"imu", true}}));
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <pcl/point_cloud.h>
+
+#include "radar_ndt/fields.h"
+#include "radar_ndt/frontend/point_covariance.h"
+#include "radar_ndt/io/imu_sample.h"
+#include "radar_ndt/io/radar_cycle.h"
+#include "radar_ndt/io/trajectory_io.h"
+#include "radar_ndt/odometry/doppler_imu.h"
+#include "radar_ndt/odometry/radar_inertial_odometry.h"
+#include "radar_ndt/point_types.h"
+
+namespace radar_ndt {
+
+/// The methods of the 6-DoF pipeline: the 3D matchers of the registry, then doppler-imu.
+std::vector<std::string> inertialMethods();
+/// Whether `method` is one of them (what makes a recording's run the 6-DoF one).
+bool isInertialMethod(const std::string& method);
+/// "pw-ndt-3d | pcl-ndt-3d | pcl-gicp | doppler-imu", for the settings' help.
+std::string inertialMethodChoices();
+
+struct InertialMatcherOptions {
+  std::string method = "pw-ndt-3d";
+  template <typename Visit>
+  static void fields(Visit&& visit);
+};
+
+template <typename Visit>
+void InertialMatcherOptions::fields(Visit&& visit) {
+  visit(&InertialMatcherOptions::method,
+        Field("method", "the matcher, by its registered name").cli("method").choices(&inertialMethodChoices));
+}
+
+struct InertialRunOptions {
+  InertialMatcherOptions matcher;
+  /// Fuse the rig's IMU (the description's imu topic). Radar only by default, as the planar
+  /// pipelines; doppler-imu needs it.
+  bool imu = false;
+  /// The scans' recorded times minus their measurement's (a driver's latency), taken off every
+  /// scan's stamp before either method.
+  double radar_latency = 0.0;
+  /// Each detection's 1σ in range, azimuth and elevation: its covariance (point_covariance.h).
+  SphericalAccuracy accuracy;
+  RadarInertialOptions odometry;
+  DopplerImuOptions doppler_imu;
+  std::size_t max_cycles = 0;  ///< 0: all
+  /// Throws std::invalid_argument naming the first setting out of range.
+  void validate() const;
+  template <typename Visit>
+  static void fields(Visit&& visit);
+};
+
+template <typename Visit>
+void InertialRunOptions::fields(Visit&& visit) {
+  using S = InertialRunOptions;
+  visit(&S::matcher, Field("matcher", "the matcher"));
+  visit(&S::imu,
+        Field("imu", "fuse the rig's IMU").onSwitch("imu", "fuse the rig's 6-axis IMU (the description's imu topic)"));
+  visit(&S::radar_latency, Field("radar_latency", "the scans' recorded times minus their measurement's")
+                               .unit("s")
+                               .atLeast(0)
+                               .cli("radar-latency"));
+  visit(&S::accuracy, Field("accuracy", "each detection's accuracy, its covariance's source"));
+  visit(&S::odometry, Field("odometry", "the 6-DoF odometry"));
+  visit(&S::doppler_imu, Field("doppler_imu", "the doppler-imu baseline"));
+  visit(&S::max_cycles,
+        Field("max_cycles", "stop after this many cycles per scene, or scans (0: all)").cli("max-cycles"));
+}
+
+struct InertialRunResult {
+  std::string sequence;  ///< the recording's name
+  std::string method = "pw-ndt-3d";
+  bool imu = false;
+  std::string radar;  ///< the radar that ran (the reference channel)
+  double period_s = 0;
+  std::string prior;  ///< what each match started from
+  Trajectory estimate;
+  Trajectory ground_truth;            ///< the recording's 6-DoF truth at the poses' stamps; empty without one
+  std::vector<OdometryStep3D> steps;  ///< every scan's, skipped ones included
+  std::vector<std::string> problems;
+  std::size_t scans = 0, matched = 0, fallbacks = 0, still = 0, skipped = 0, unreadable = 0;
+  double seconds = 0;  ///< wall time of the run
+};
+
+/// A 4D radar's detections (PointRadar as a recording reads them: sensor frame, Doppler positive
+/// receding) as PointRadar4D with `accuracy`'s covariance, in the sensor frame.
+pcl::PointCloud<PointRadar4D> toRadar4D(const pcl::PointCloud<PointRadar>& points, const SphericalAccuracy& accuracy);
+
+/// The live side: IMU messages and one radar's scans as they come, in time order; what the ROS
+/// node runs, message by message. Not for doppler-imu (a whole-run smoother: runInertialOdometry).
+class InertialStream {
+ public:
+  /// `radar_to_body`: the radar's mounting. std::invalid_argument for doppler-imu or bad options.
+  InertialStream(const InertialRunOptions& options, const Eigen::Isometry3d& radar_to_body);
+  void addImu(const ImuSample& sample);
+  /// One scan, its recorded stamp (s; radar_latency is taken off here).
+  OdometryStep3D addScan(double stamp, const pcl::PointCloud<PointRadar>& points);
+  const RadarInertialOdometry& odometry() const { return odometry_; }
+
+ private:
+  InertialRunOptions options_;
+  RadarInertialOdometry odometry_;
+};
+
+using InertialStepCallback =
+    std::function<void(std::size_t, const OdometryStep3D&, const pcl::PointCloud<PointRadar4D>&)>;
+
+/// Runs `cycles` (one radar's scans are used: the reference channel's; the others are said and
+/// left out) with `imu` (base frame, time-ordered) to the end. Each IMU message is handed over
+/// before the scans after it, as the stream gets them live. `progress(done, total)` after each
+/// scan; `on_step(k, step, scan)` with the scan's static detections in the body frame.
+InertialRunResult runInertialOdometry(const RadarCycleSource& cycles, const std::vector<ImuSample>& imu,
+                                      const InertialRunOptions& options,
+                                      const std::function<void(std::size_t, std::size_t)>& progress = nullptr,
+                                      const InertialStepCallback& on_step = nullptr);
+
+/// A 6-DoF trajectory projected onto the plane: x, y and the heading (the body's x axis turned
+/// into the plane), z, roll and pitch dropped; what planar (nuScenes-style) tables compare.
+Trajectory projectToPlane(const Trajectory& trajectory);
+
+}  // namespace radar_ndt

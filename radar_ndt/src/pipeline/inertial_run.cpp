@@ -1,0 +1,263 @@
+#include "radar_ndt/pipeline/inertial_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <stdexcept>
+
+#include "radar_ndt/frontend/ego_velocity_3d.h"
+#include "radar_ndt/odometry/local_map_3d.h"
+#include "radar_ndt/odometry/matcher_registry_3d.h"
+
+namespace radar_ndt {
+
+std::vector<std::string> inertialMethods() {
+  std::vector<std::string> out = matcher3DNames();
+  out.push_back("doppler-imu");
+  return out;
+}
+
+bool isInertialMethod(const std::string& method) {
+  const std::vector<std::string> all = inertialMethods();
+  return std::find(all.begin(), all.end(), method) != all.end();
+}
+
+std::string inertialMethodChoices() {
+  std::string out;
+  for (const std::string& m : inertialMethods()) out += (out.empty() ? "" : " | ") + m;
+  return out;
+}
+
+void InertialRunOptions::validate() const {
+  checkFields(*this, "InertialRunOptions");
+  if (!isInertialMethod(matcher.method))
+    throw std::invalid_argument("matcher.method: no 6-DoF method '" + matcher.method + "' (" + inertialMethodChoices() +
+                                ")");
+  if (matcher.method == "doppler-imu" && !imu)
+    throw std::invalid_argument("matcher.method doppler-imu integrates the IMU: it needs imu (--imu)");
+  if (doppler_imu.radar_latency != 0)
+    throw std::invalid_argument("doppler_imu.radar_latency: the run's radar_latency (--radar-latency) sets it");
+  RadarInertialOptions o = odometry;
+  if (matcher.method != "doppler-imu") o.method = matcher.method;
+  o.validate();
+  doppler_imu.validate();
+}
+
+pcl::PointCloud<PointRadar4D> toRadar4D(const pcl::PointCloud<PointRadar>& points, const SphericalAccuracy& accuracy) {
+  pcl::PointCloud<PointRadar4D> scan;
+  scan.reserve(points.size());
+  for (const PointRadar& p : points) {
+    PointRadar4D q(p.x, p.y, p.z, p.power);
+    q.doppler = p.doppler;
+    q.rcs = p.rcs;
+    q.sensor_id = p.sensor_id;
+    scan.push_back(q);
+  }
+  setPointCovariances(scan, Eigen::Matrix3d::Identity(), accuracy);
+  return scan;
+}
+
+namespace {
+
+/// The odometry's options as the run's say: its method and whether the IMU is fused.
+RadarInertialOptions odometryOptions(const InertialRunOptions& o) {
+  RadarInertialOptions out = o.odometry;
+  out.method = o.matcher.method;
+  out.use_imu = o.imu;
+  return out;
+}
+
+/// What each step's match starts from, for the summaries.
+std::string priorOf(const InertialRunOptions& o) {
+  if (o.matcher.method == "doppler-imu") return "none (gyro and Doppler velocity integrated, no match)";
+  return o.imu ? "inertial filter (gyro, Doppler velocity, gravity)" : "last turn rate and Doppler velocity";
+}
+
+/// The sweep of the reference channel in `cycle` (its stamp is the cycle's), or null.
+const RadarSweepData* referenceSweep(const RadarCycle& cycle) {
+  for (const RadarSweepData& s : cycle.sweeps)
+    if (s.timestamp_us == cycle.timestamp_us) return &s;
+  return nullptr;
+}
+
+/// The gyro's last reading at or before `t` (the first one before it; zero without an IMU): what a
+/// live run holds when the scan arrives.
+Eigen::Vector3d gyroAt(const std::vector<ImuSample>& imu, double t) {
+  const auto it = std::upper_bound(imu.begin(), imu.end(), t, [](double v, const ImuSample& s) { return v < s.t; });
+  if (it == imu.begin()) return imu.empty() ? Eigen::Vector3d::Zero() : imu.front().gyro;
+  return std::prev(it)->gyro;
+}
+
+/// Loads scan k of `cycles` (the reference sweep); false when unreadable (said in `r`).
+bool loadScan(const RadarCycleSource& cycles, std::size_t k, InertialRunResult& r, RadarSweepData& sweep) {
+  std::vector<std::string> problems;
+  RadarCycle cycle;
+  try {
+    cycle = cycles.load(k, &problems);
+  } catch (const std::exception& e) {
+    problems.push_back(e.what());
+  }
+  for (const std::string& p : problems) r.problems.push_back("scan " + std::to_string(k) + ": " + p);
+  const RadarSweepData* s = referenceSweep(cycle);
+  if (!s) {
+    ++r.unreadable;
+    return false;
+  }
+  if (cycle.sweeps.size() > 1 && r.radar.empty())
+    r.problems.push_back("the 6-DoF pipeline runs one radar, " + cycles.referenceChannel() + "; " +
+                         std::to_string(cycle.sweeps.size() - 1) +
+                         " other radar(s) left out (sequence.reference_channel picks it)");
+  r.radar = cycles.referenceChannel();
+  sweep = *s;
+  return true;
+}
+
+/// The doppler-imu baseline over the whole recording: each scan's body velocity, then the IMU.
+void runBaseline(const RadarCycleSource& cycles, const std::vector<ImuSample>& imu, const InertialRunOptions& o,
+                 const std::function<void(std::size_t, std::size_t)>& progress, const InertialStepCallback& on_step,
+                 InertialRunResult& r) {
+  std::map<double, std::pair<std::size_t, pcl::PointCloud<PointRadar4D>>> body;  // stamp -> (k, scan)
+  const EgoVelocity3DEstimator estimator(o.odometry.ego_velocity);
+  std::vector<BodyVelocitySample> velocities;
+  std::size_t n = cycles.size();
+  if (o.max_cycles) n = std::min(n, o.max_cycles);
+  for (std::size_t k = 0; k < n; ++k) {
+    RadarSweepData sweep;
+    if (loadScan(cycles, k, r, sweep)) {
+      const double t = static_cast<double>(sweep.timestamp_us) * 1e-6 - o.radar_latency;
+      const EgoVelocity3D e = estimator.estimate(sweep.points);
+      velocities.push_back({t, bodyVelocity(sweep.sensor_to_vehicle, e.velocity, gyroAt(imu, t)), e.valid});
+      ++r.scans;
+      if (on_step) body[t] = {k, transformRadar4D(toRadar4D(sweep.points, o.accuracy), sweep.sensor_to_vehicle)};
+    }
+    if (progress) progress(k + 1, n);
+  }
+  if (velocities.empty()) throw std::invalid_argument(r.sequence + ": no readable scan");
+  DopplerImuResult d = runDopplerImu(imu, velocities, o.doppler_imu);
+  r.estimate = d.trajectory;
+  r.problems.insert(r.problems.end(), d.problems.begin(), d.problems.end());
+  for (std::size_t i = 0; i < r.estimate.size(); ++i) {
+    OdometryStep3D step;
+    step.stamp = r.estimate.stamps[i];
+    step.pose = r.estimate.poses[i];
+    r.steps.push_back(step);
+    const auto it = body.find(step.stamp);
+    if (on_step && it != body.end()) on_step(it->second.first, step, it->second.second);
+  }
+}
+
+/// The ground truth at the estimate's stamps (the scans' measurement times, as the truth's).
+Trajectory truthAtEstimate(const Trajectory& truth, const Trajectory& estimate) {
+  Trajectory out;
+  for (std::size_t i = 0; i < estimate.size(); ++i) {
+    Eigen::Isometry3d T;
+    if (truth.poseAt(estimate.stamps[i], &T)) {
+      out.stamps.push_back(estimate.stamps[i]);
+      out.poses.push_back(T);
+    }
+  }
+  return out;
+}
+
+/// Refuses IMU messages that share no time with the scans (another clock: a stamp rule that mixes
+/// header stamps and receive times), naming both spans.
+void checkClocks(const RadarCycleSource& cycles, const std::vector<ImuSample>& imu) {
+  if (imu.empty() || cycles.size() == 0) return;
+  const double first = static_cast<double>(cycles.timestamp(0)) * 1e-6;
+  const double last = static_cast<double>(cycles.timestamp(cycles.size() - 1)) * 1e-6;
+  if (imu.back().t >= first && imu.front().t <= last) return;
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "%s: the IMU's stamps (%.3f to %.3f s) share no time with the radar's (%.3f to %.3f s): two "
+                "clocks (the description's stamps: receive puts both on the recorder's)",
+                cycles.sceneName().c_str(), imu.front().t, imu.back().t, first, last);
+  throw std::invalid_argument(buf);
+}
+
+}  // namespace
+
+InertialStream::InertialStream(const InertialRunOptions& options, const Eigen::Isometry3d& radar_to_body)
+    : options_((options.validate(), options)), odometry_(odometryOptions(options_), radar_to_body) {
+  if (options_.matcher.method == "doppler-imu")
+    throw std::invalid_argument("doppler-imu smooths the whole run: runInertialOdometry, not a stream");
+}
+
+void InertialStream::addImu(const ImuSample& sample) {
+  if (options_.imu) odometry_.addImu(sample);
+}
+
+OdometryStep3D InertialStream::addScan(double stamp, const pcl::PointCloud<PointRadar>& points) {
+  return odometry_.addScan(stamp - options_.radar_latency, toRadar4D(points, options_.accuracy));
+}
+
+InertialRunResult runInertialOdometry(const RadarCycleSource& cycles, const std::vector<ImuSample>& imu,
+                                      const InertialRunOptions& o,
+                                      const std::function<void(std::size_t, std::size_t)>& progress,
+                                      const InertialStepCallback& on_step) {
+  o.validate();
+  if (o.imu && imu.empty())
+    throw std::invalid_argument(cycles.sceneName() + ": imu asked for, but the recording has no IMU messages");
+  if (o.imu) checkClocks(cycles, imu);
+  const auto t0 = std::chrono::steady_clock::now();
+  InertialRunResult r;
+  r.sequence = cycles.sceneName();
+  r.method = o.matcher.method;
+  r.imu = o.imu;
+  r.period_s = cycles.periodSeconds();
+  r.prior = priorOf(o);
+  if (o.matcher.method == "doppler-imu") {
+    runBaseline(cycles, imu, o, progress, on_step, r);
+  } else {
+    std::unique_ptr<InertialStream> stream;
+    std::size_t next_imu = 0;
+    std::size_t n = cycles.size();
+    if (o.max_cycles) n = std::min(n, o.max_cycles);
+    for (std::size_t k = 0; k < n; ++k) {
+      RadarSweepData sweep;
+      if (loadScan(cycles, k, r, sweep)) {
+        if (!stream) stream = std::make_unique<InertialStream>(o, sweep.sensor_to_vehicle);
+        const double stamp = static_cast<double>(sweep.timestamp_us) * 1e-6;
+        for (; next_imu < imu.size() && imu[next_imu].t <= stamp - o.radar_latency; ++next_imu)
+          stream->addImu(imu[next_imu]);
+        const OdometryStep3D step = stream->addScan(stamp, sweep.points);
+        ++r.scans;
+        r.steps.push_back(step);
+        if (!step.skipped) {
+          r.estimate.stamps.push_back(step.stamp);
+          r.estimate.poses.push_back(step.pose);
+          if (on_step) on_step(k, step, transformRadar4D(toRadar4D(sweep.points, o.accuracy), sweep.sensor_to_vehicle));
+        }
+      }
+      if (progress) progress(k + 1, n);
+    }
+    if (!stream) throw std::invalid_argument(r.sequence + ": no readable scan");
+    const std::vector<std::string> p = stream->odometry().problems();
+    r.problems.insert(r.problems.end(), p.begin(), p.end());
+  }
+  for (const OdometryStep3D& s : r.steps) {
+    r.matched += s.matched;
+    r.fallbacks += s.fallback;
+    r.still += s.still;
+    r.skipped += s.skipped;
+  }
+  r.ground_truth = truthAtEstimate(cycles.groundTruth6Dof(), r.estimate);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+Trajectory projectToPlane(const Trajectory& trajectory) {
+  Trajectory out;
+  out.stamps = trajectory.stamps;
+  for (const Eigen::Isometry3d& T : trajectory.poses) {
+    const Eigen::Vector3d x = T.linear().col(0);
+    Eigen::Isometry3d P = Eigen::Isometry3d::Identity();
+    P.linear() = Eigen::AngleAxisd(std::atan2(x.y(), x.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    P.translation() = Eigen::Vector3d(T.translation().x(), T.translation().y(), 0);
+    out.poses.push_back(P);
+  }
+  return out;
+}
+
+}  // namespace radar_ndt

@@ -203,28 +203,13 @@ class AutomotiveNode : public RadarNode {
   /// Msg: sensor_msgs/PointCloud2, or the first PointCloud (NTU4DRadLM's Eagle).
   template <typename Msg>
   std::optional<RadarSweepData> sweepOf(std::size_t i, const Msg& msg, std::int64_t t) {
-    TopicState& c = channels_[i].state;
-    const RadarDescription& r = d_.radars[i];
     RadarSweepData sweep;
     sweep.timestamp_us = t;
     sweep.sensor_id = static_cast<std::uint16_t>(i);
-    try {
-      const std::vector<std::string> names = r.fields.columns();
-      const ros1::CloudColumns cols = ros1::readCloudColumns(msg, names);
-      for (const std::string& need : r.fields.requiredColumns())
-        for (std::size_t k = 0; k < names.size(); ++k)
-          if (names[k] == need && !cols.present[k])
-            throw std::invalid_argument("no field '" + need + "' (fields: " + ros1::fieldNames(msg) + ")");
-      RadarPointStats stats;
-      sweep.points = convertRadarPoints(cols.table, cols.points, cols.present, r.fields, sweep.sensor_id, &stats);
-      if (stats.dropped_non_finite > 0)
-        c.problem(r.topic + ": " + std::to_string(stats.dropped_non_finite) + " points with NaN or Inf dropped");
-      if (cols.points == 0) c.problem(r.topic + ": an empty cloud");
-    } catch (const std::invalid_argument& e) {
-      ++c.malformed;
-      c.problem(r.topic + ": a malformed cloud left out: " + e.what());
-      return std::nullopt;
-    }
+    std::optional<pcl::PointCloud<PointRadar>> points =
+        cloudPoints(d_.radars[i], sweep.sensor_id, msg, channels_[i].state);
+    if (!points) return std::nullopt;
+    sweep.points = std::move(*points);
     return sweep;
   }
 

@@ -188,6 +188,40 @@ void Publishers::pose(const OdometryStep& step, std::int64_t t_us, const std::st
   tf_.publish(tf);
 }
 
+void Publishers::pose(const OdometryStep3D& step, std::int64_t t_us, const std::string& odom_frame,
+                      const std::string& base_frame) {
+  const Eigen::Quaterniond q(step.pose.linear());
+  nav_msgs::Odometry o;
+  o.header.stamp = rosTime(t_us);
+  o.header.frame_id = odom_frame;
+  o.child_frame_id = base_frame;
+  o.pose.pose.position.x = step.pose.translation().x();
+  o.pose.pose.position.y = step.pose.translation().y();
+  o.pose.pose.position.z = step.pose.translation().z();
+  o.pose.pose.orientation.w = q.w();
+  o.pose.pose.orientation.x = q.x();
+  o.pose.pose.orientation.y = q.y();
+  o.pose.pose.orientation.z = q.z();
+  const bool known = step.covariance.allFinite() && step.covariance.any();
+  for (int r = 0; r < 6; ++r)
+    for (int k = 0; k < 6; ++k)
+      o.pose.covariance[static_cast<std::size_t>(6 * r + k)] = known ? step.covariance(r, k) : -1.0;
+  o.twist.twist.linear.x = step.velocity.x();
+  o.twist.twist.linear.y = step.velocity.y();
+  o.twist.twist.linear.z = step.velocity.z();
+  odom_.publish(o);
+  tf2_msgs::TFMessage tf;
+  geometry_msgs::TransformStamped t;
+  t.header = o.header;
+  t.child_frame_id = base_frame;
+  t.transform.translation.x = step.pose.translation().x();
+  t.transform.translation.y = step.pose.translation().y();
+  t.transform.translation.z = step.pose.translation().z();
+  t.transform.rotation = o.pose.pose.orientation;
+  tf.transforms.push_back(t);
+  tf_.publish(tf);
+}
+
 void Publishers::localMap(const pcl::PointCloud<PointRadar>& cloud, std::int64_t t_us, const std::string& frame) {
   publishCloud(local_map_, cloud, t_us, frame);
 }

@@ -149,10 +149,7 @@ class ScanningNode : public RadarNode {
   }
 
   void flushIfQuiet() {
-    if (pending_.empty() || radar_state_.last_arrival.isZero() ||
-        (ros::WallTime::now() - radar_state_.last_arrival).toSec() < flush_after_)
-      return;
-    processReady(true);
+    if (!pending_.empty() && radar_state_.quietFor(flush_after_)) processReady(true);
   }
 
   void process(const Sweep& s) {

@@ -45,6 +45,16 @@ void InertialRunOptions::validate() const {
   doppler_imu.validate();
 }
 
+InertialRunOptions inertialRunDefaults(const SensorDescription& d, const std::string& radar) {
+  InertialRunOptions o;
+  for (const RadarDescription& r : d.radars)
+    if (r.name == radar && r.fields.spherical) {
+      const SphericalSigmas& a = *r.fields.spherical;
+      o.accuracy = {a.range, a.azimuth_deg, a.elevation_deg};
+    }
+  return o;
+}
+
 pcl::PointCloud<PointRadar4D> toRadar4D(const pcl::PointCloud<PointRadar>& points, const SphericalAccuracy& accuracy) {
   pcl::PointCloud<PointRadar4D> scan;
   scan.reserve(points.size());

@@ -86,18 +86,6 @@ std::string askedBy(const Settings& given, const char* path, const std::string& 
   return s ? s->spelled() : "method " + method;
 }
 
-/// The defaults of a 6-DoF run of `reference` in `d`: each detection's accuracy its description's
-/// spherical_accuracy where it has one (the settings given go over them).
-InertialRunOptions describedDefaults(const SensorDescription& d, const std::string& reference) {
-  InertialRunOptions o;
-  for (const RadarDescription& radar : d.radars)
-    if (radar.name == reference && radar.fields.spherical) {
-      const SphericalSigmas& a = *radar.fields.spherical;
-      o.accuracy = {a.range, a.azimuth_deg, a.elevation_deg};
-    }
-  return o;
-}
-
 void openRecording(OdometryRun::Impl& r, const Settings& given) {
   if (r.source.sensors.empty())
     throw std::invalid_argument("format rosbag needs a sensor description (a YAML file, or preset:NAME)");
@@ -114,7 +102,7 @@ void openRecording(OdometryRun::Impl& r, const Settings& given) {
     r.kind = PipelineKind::Inertial;
     inertialRunOptions(given);  // a bad setting is said before the recording is read
     r.recording = readRecording("rosbag", r.source.path, d);
-    r.inertial = inertialRunOptions(given, describedDefaults(d, r.recording.cycles->referenceChannel()));
+    r.inertial = inertialRunOptions(given, inertialRunDefaults(d, r.recording.cycles->referenceChannel()));
     if (r.inertial.imu && r.recording.imu.empty())
       throw std::invalid_argument(askedBy(given, "imu", r.inertial.matcher.method) + ": " + r.source.sensors +
                                   (d.imu_topic.empty()

@@ -18,6 +18,7 @@
 #include "radar_ndt/frontend/point_covariance.h"
 #include "radar_ndt/io/imu_sample.h"
 #include "radar_ndt/io/radar_cycle.h"
+#include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/odometry/doppler_imu.h"
 #include "radar_ndt/odometry/radar_inertial_odometry.h"
@@ -94,6 +95,10 @@ struct InertialRunResult {
   std::size_t scans = 0, matched = 0, fallbacks = 0, still = 0, skipped = 0, unreadable = 0;
   double seconds = 0;  ///< wall time of the run
 };
+
+/// The defaults of a 6-DoF run of `radar` (its name) in `d`: each detection's accuracy its
+/// description's spherical_accuracy where it has one; the settings given go over them.
+InertialRunOptions inertialRunDefaults(const SensorDescription& d, const std::string& radar);
 
 /// A 4D radar's detections (PointRadar as a recording reads them: sensor frame, Doppler positive
 /// receding) as PointRadar4D with `accuracy`'s covariance, in the sensor frame.

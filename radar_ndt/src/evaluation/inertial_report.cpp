@@ -33,6 +33,11 @@ double medianMatchMs(const InertialRunResult& r) {
   return ms[ms.size() / 2];
 }
 
+/// The run's wall time a scan (ms), reading included.
+double msPerScan(const InertialRunResult& r) {
+  return r.scans ? 1000.0 * r.seconds / static_cast<double>(r.scans) : 0.0;
+}
+
 double recordedSeconds(const InertialRunResult& r) {
   return r.estimate.size() > 1 ? r.estimate.stamps.back() - r.estimate.stamps.front() : 0.0;
 }
@@ -77,7 +82,7 @@ std::string summaryJson(const InertialRunResult& r, const EvaluationReport* metr
   j["skipped"] = r.skipped;
   j["unreadable"] = r.unreadable;
   j["problems"] = r.problems.size();
-  j["ms_per_scan"] = r.scans ? 1000.0 * r.seconds / static_cast<double>(r.scans) : 0.0;
+  j["ms_per_scan"] = msPerScan(r);
   j["match_ms_median"] = medianMatchMs(r);
   j["real_time_factor"] = realTimeFactor(r);
   if (metrics) j["metrics"] = json::parse(metricsJson(*metrics));
@@ -112,7 +117,7 @@ std::string summaryText(const InertialRunResult& r) {
       r.imu && r.method != "doppler-imu" ? " + IMU" : "", r.estimate.size(), r.matched, r.fallbacks, r.still, r.skipped,
       r.unreadable, r.problems.size());
   s += format("  prior: %s; ms per scan %.2f (match, median %.2f), %.0fx real time (one thread)\n", r.prior.c_str(),
-              r.scans ? 1000.0 * r.seconds / static_cast<double>(r.scans) : 0.0, medianMatchMs(r), realTimeFactor(r));
+              msPerScan(r), medianMatchMs(r), realTimeFactor(r));
   return s;
 }
 

@@ -12,8 +12,8 @@ namespace radar_ndt {
 namespace {
 
 // The released files' names, in the documented order t, wz, wy, wx, az, ay, ax.
-const char* const kColumns[] = {"GPSTime", "angvel_z", "angvel_y", "angvel_x", "accelz", "accely", "accelx"};
-constexpr std::size_t kColumnCount = sizeof(kColumns) / sizeof(kColumns[0]);
+const char* const kImuColumns[] = {"GPSTime", "angvel_z", "angvel_y", "angvel_x", "accelz", "accely", "accelx"};
+constexpr std::size_t kImuColumnCount = sizeof(kImuColumns) / sizeof(kImuColumns[0]);
 
 }  // namespace
 
@@ -22,7 +22,7 @@ std::vector<BoreasImuRow> readBoreasImuFile(const std::string& path) {
   std::vector<BoreasImuRow> rows;
   // Columns are found by their header names, so a file with more columns, or in another order,
   // is read too; the time and the three rates must be there.
-  std::vector<int> index(kColumnCount, -1);
+  std::vector<int> index(kImuColumnCount, -1);
   std::size_t cells_per_row = 0;
   detail::forEachLine(text, [&](std::size_t n, const std::string& line) {
     if (detail::isBlank(line)) return true;
@@ -30,12 +30,12 @@ std::vector<BoreasImuRow> readBoreasImuFile(const std::string& path) {
     if (cells_per_row == 0) {
       cells_per_row = cells.size();
       for (std::size_t c = 0; c < cells.size(); ++c)
-        for (std::size_t k = 0; k < kColumnCount; ++k)
-          if (cells[c] == kColumns[k]) index[k] = static_cast<int>(c);
+        for (std::size_t k = 0; k < kImuColumnCount; ++k)
+          if (cells[c] == kImuColumns[k]) index[k] = static_cast<int>(c);
       for (std::size_t k = 0; k < 4; ++k)
         if (index[k] < 0)
           throw IoError(path, n,
-                        std::string("header has no column '") + kColumns[k] +
+                        std::string("header has no column '") + kImuColumns[k] +
                             "' (a Boreas IMU file: GPSTime,angvel_z,angvel_y,angvel_x,accelz,accely,accelx)");
       return true;
     }
@@ -48,9 +48,9 @@ std::vector<BoreasImuRow> readBoreasImuFile(const std::string& path) {
       throw IoError(path, n, "GPSTime '" + t + "' is not a time (digits: µs, ns or s)");
     if (!rows.empty() && r.stamp_us <= rows.back().stamp_us)
       throw IoError(path, n, "GPSTime " + t + " does not come after the line before's");
-    double v[kColumnCount] = {};
-    for (std::size_t k = 1; k < kColumnCount; ++k)
-      if (index[k] >= 0) v[k] = detail::parseFinite(path, n, cells[static_cast<std::size_t>(index[k])], kColumns[k]);
+    double v[kImuColumnCount] = {};
+    for (std::size_t k = 1; k < kImuColumnCount; ++k)
+      if (index[k] >= 0) v[k] = detail::parseFinite(path, n, cells[static_cast<std::size_t>(index[k])], kImuColumns[k]);
     r.angular_velocity = {v[3], v[2], v[1]};  // the file's order is z, y, x
     r.acceleration = {v[6], v[5], v[4]};
     rows.push_back(r);
@@ -77,7 +77,7 @@ std::optional<VehicleSignals> readBoreasImu(const std::string& sequence_dir) {
 void writeBoreasImu(const std::string& path, const std::vector<BoreasImuRow>& rows) {
   std::ostringstream s;
   s.precision(17);
-  for (std::size_t i = 0; i < kColumnCount; ++i) s << (i ? "," : "") << kColumns[i];
+  for (std::size_t i = 0; i < kImuColumnCount; ++i) s << (i ? "," : "") << kImuColumns[i];
   s << '\n';
   for (const BoreasImuRow& r : rows) {
     s << r.stamp_us << "000";  // nanoseconds, as the released pose files

@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr std::size_t kColumns = 7;  // x y z RCS v_r v_r_compensated time
+constexpr std::size_t kVodColumns = 7;  // x y z RCS v_r v_r_compensated time
 
 std::string readAll(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -52,7 +52,7 @@ bool toRigid(const std::vector<double>& v, Eigen::Isometry3d* T) {
 pcl::PointCloud<PointRadar4D> readVodRadarBin(const std::string& path, std::vector<float>* compensated,
                                               std::size_t* dropped) {
   const std::string bytes = readAll(path);
-  const std::size_t row = kColumns * sizeof(float);
+  const std::size_t row = kVodColumns * sizeof(float);
   if (bytes.size() % row != 0)
     throw IoError(path, std::to_string(bytes.size()) +
                             " bytes: not a whole number of rows of 7 float32 (x y z RCS v_r "
@@ -61,9 +61,9 @@ pcl::PointCloud<PointRadar4D> readVodRadarBin(const std::string& path, std::vect
   if (compensated) compensated->clear();
   std::size_t bad = 0;
   for (std::size_t i = 0; i < bytes.size() / row; ++i) {
-    float v[kColumns];
+    float v[kVodColumns];
     std::memcpy(v, bytes.data() + i * row, row);  // little-endian, as numpy.fromfile writes on x86
-    if (!std::all_of(v, v + kColumns, [](float x) { return std::isfinite(x); })) {
+    if (!std::all_of(v, v + kVodColumns, [](float x) { return std::isfinite(x); })) {
       ++bad;
       continue;
     }
@@ -86,16 +86,16 @@ void writeVodRadarBin(const std::string& path, const pcl::PointCloud<PointRadar4
   if (compensated && compensated->size() != cloud.size())
     throw IoError(path, "v_r_compensated has " + std::to_string(compensated->size()) + " values for " +
                             std::to_string(cloud.size()) + " points");
-  std::string bytes(cloud.size() * kColumns * sizeof(float), '\0');
+  std::string bytes(cloud.size() * kVodColumns * sizeof(float), '\0');
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const PointRadar4D& p = cloud[i];
-    const float v[kColumns] = {p.x,
-                               p.y,
-                               p.z,
-                               p.rcs,
-                               p.doppler,
-                               compensated ? (*compensated)[i] : p.doppler,
-                               static_cast<float>(std::round(p.time_offset / kVodRadarPeriod))};
+    const float v[kVodColumns] = {p.x,
+                                  p.y,
+                                  p.z,
+                                  p.rcs,
+                                  p.doppler,
+                                  compensated ? (*compensated)[i] : p.doppler,
+                                  static_cast<float>(std::round(p.time_offset / kVodRadarPeriod))};
     std::memcpy(&bytes[i * sizeof v], v, sizeof v);
   }
   writeFileAtomically(path, bytes);

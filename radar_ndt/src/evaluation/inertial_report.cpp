@@ -1,10 +1,10 @@
 // The 6-DoF run's reports (run_report.h): the same outputs as the planar pipelines'.
 #include <algorithm>
-#include <cstdarg>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
 
+#include "detail/printf_string.h"
 #include "radar_ndt/evaluation/run_report.h"
 
 namespace radar_ndt {
@@ -13,15 +13,7 @@ namespace {
 
 using nlohmann::json;
 
-std::string format(const char* f, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char* f, ...) {
-  char buf[1024];
-  va_list args;
-  va_start(args, f);
-  std::vsnprintf(buf, sizeof buf, f, args);
-  va_end(args);
-  return buf;
-}
+using detail::format;
 
 /// The median of the matched steps' match times (ms); 0 without.
 double medianMatchMs(const InertialRunResult& r) {

@@ -10,7 +10,7 @@
 namespace radar_ndt {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / kPi;
+constexpr double kDegreesPerRadian = 180.0 / kPi;
 
 /// rpg get_best_yaw: θ maximising trace(Rz(θ) C).
 double bestYaw(const Eigen::Matrix3d& C) {
@@ -112,7 +112,7 @@ AbsoluteError6Dof absoluteTrajectoryError6Dof(const PosePairs& pairs, Trajectory
     const Eigen::Isometry3d e = out.alignment * pairs.est[i];
     sq_t += (pairs.gt[i].translation() - e.translation()).squaredNorm();
     // rpg: e_R = R_we R_wgᵀ, its angle as the norm of logmap_so3.
-    const double angle = Eigen::AngleAxisd(e.linear() * pairs.gt[i].linear().transpose()).angle() * kRadToDeg;
+    const double angle = Eigen::AngleAxisd(e.linear() * pairs.gt[i].linear().transpose()).angle() * kDegreesPerRadian;
     sq_r += angle * angle;
   }
   out.rmse_m = std::sqrt(sq_t / static_cast<double>(pairs.size()));
@@ -139,9 +139,9 @@ RelativeError relativeError(const PosePairs& pairs, double distance, double max_
     const Eigen::Isometry3d e_w = R2 * e_c2 * R2.inverse();
     trans.push_back(e_w.translation().norm());
     const Eigen::Vector3d ypr = eulerZyx(e_w.linear());
-    yaw.push_back(std::abs(ypr.x()) * kRadToDeg);
-    gravity.push_back(std::sqrt(ypr.y() * ypr.y() + ypr.z() * ypr.z()) * kRadToDeg);
-    rot.push_back(rotationAngle(e_w.linear()) * kRadToDeg);
+    yaw.push_back(std::abs(ypr.x()) * kDegreesPerRadian);
+    gravity.push_back(std::sqrt(ypr.y() * ypr.y() + ypr.z() * ypr.z()) * kDegreesPerRadian);
+    rot.push_back(rotationAngle(e_w.linear()) * kDegreesPerRadian);
   }
   out.samples = trans.size();
   if (out.samples < 2) return out;  // rpg: "Too few samples! Will not compute."

@@ -1,10 +1,11 @@
 #include "radar_ndt/evaluation/run_report.h"
 
-#include <cstdarg>
 #include <cstdio>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
+
+#include "detail/printf_string.h"
 
 namespace radar_ndt {
 
@@ -16,15 +17,7 @@ double percent(std::size_t part, std::size_t whole) {
   return whole ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : 0.0;
 }
 
-std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char* fmt, ...) {
-  char buffer[1024];
-  va_list args;
-  va_start(args, fmt);
-  std::vsnprintf(buffer, sizeof buffer, fmt, args);
-  va_end(args);
-  return buffer;
-}
+using detail::format;
 
 /// The step counts both pipelines report.
 void addStepCounts(json& j, const OdometryCounters& c) {

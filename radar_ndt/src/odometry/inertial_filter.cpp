@@ -13,7 +13,7 @@ namespace radar_ndt {
 
 namespace {
 
-std::string format(const char* fmt, double a, double b = 0, double c = 0, double d = 0) {
+std::string figures(const char* fmt, double a, double b = 0, double c = 0, double d = 0) {
   char buf[256];
   std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
   return buf;
@@ -42,18 +42,18 @@ StillStart readStillStart(const std::vector<ImuSample>& imu, double seconds, dou
   const double tilt = std::acos(std::clamp(f0.normalized().z(), -1.0, 1.0)) * 180.0 / kPi;
   if (tilt > 45.0)
     problems.push_back(
-        format("the accelerometer reads gravity along (%.2f, %.2f, %.2f) m/s^2 at the start, "
-               "%.0f degrees from the body's z (up): check the IMU's axes and mounting",
-               f0.x(), f0.y(), f0.z(), tilt));
+        figures("the accelerometer reads gravity along (%.2f, %.2f, %.2f) m/s^2 at the start, "
+                "%.0f degrees from the body's z (up): check the IMU's axes and mounting",
+                f0.x(), f0.y(), f0.z(), tilt));
   StillStart out;
   out.still = norm_max - norm_min < 0.1 * gravity && w0.norm() < 0.05;
   if (out.still)
     out.gyro_bias = w0;
   else
     problems.push_back(
-        format("the rig was not still in the first %.2f s (accelerometer %.2f to %.2f m/s^2): "
-               "no gyro bias taken",
-               seconds, norm_min, norm_max));
+        figures("the rig was not still in the first %.2f s (accelerometer %.2f to %.2f m/s^2): "
+                "no gyro bias taken",
+                seconds, norm_min, norm_max));
   out.attitude = Eigen::Quaterniond::FromTwoVectors(f0.normalized(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
   return out;
 }

@@ -25,7 +25,7 @@ struct Registry3D {
   }
 };
 
-Registry3D& registry() {
+Registry3D& registry3D() {
   static Registry3D r;
   return r;
 }
@@ -42,7 +42,7 @@ void registerMatcher3D(Matcher3DEntry entry) {
   if (!entry.make || !entry.iterations)
     throw std::invalid_argument("registerMatcher3D: matcher '" + entry.name +
                                 "' needs a factory and an iteration count");
-  Registry3D& r = registry();
+  Registry3D& r = registry3D();
   std::lock_guard<std::mutex> lock(r.mutex);
   if (r.find(entry.name))
     throw std::invalid_argument("registerMatcher3D: a matcher '" + entry.name + "' is registered");
@@ -50,7 +50,7 @@ void registerMatcher3D(Matcher3DEntry entry) {
 }
 
 const Matcher3DEntry& findMatcher3D(const std::string& name) {
-  Registry3D& r = registry();
+  Registry3D& r = registry3D();
   std::lock_guard<std::mutex> lock(r.mutex);
   if (const Matcher3DEntry* e = r.find(name)) return *e;
   std::string names;
@@ -59,7 +59,7 @@ const Matcher3DEntry& findMatcher3D(const std::string& name) {
 }
 
 std::vector<std::string> matcher3DNames() {
-  Registry3D& r = registry();
+  Registry3D& r = registry3D();
   std::lock_guard<std::mutex> lock(r.mutex);
   std::vector<std::string> names;
   for (const auto& e : r.entries) names.push_back(e->name);

@@ -9,12 +9,6 @@
 
 namespace radar_ndt {
 
-namespace {
-void requireNonNegative(const char* owner, const char* name, double v) {
-  if (!(v >= 0)) throw std::invalid_argument(std::string(owner) + ": " + name + " must be >= 0 (infinity: no bound)");
-}
-}  // namespace
-
 void AutomotiveMotionGateOptions::validate() const {
   checkFields(*this, "AutomotiveMotionGateOptions");
 }

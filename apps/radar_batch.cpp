@@ -19,6 +19,7 @@
 #include "pipeline_options.h"
 #include "radar_ndt/io/atomic_file.h"
 #include "radar_ndt/io/sensor_description.h"
+#include "radar_ndt/pipeline/inertial_run.h"
 
 #ifndef RADAR_NDT_VERSION
 #define RADAR_NDT_VERSION "unknown"
@@ -97,21 +98,51 @@ std::vector<std::string> commaList(const std::string& text) {
   return out;
 }
 
+/// Whether the plan's methods are 6-DoF ones (a bag's 4D radar: pw-ndt-3d, doppler-imu, ...); each
+/// one known, and all of one kind: the two kinds run different pipelines with different settings.
+bool checkMethods(const PlanRequest& r) {
+  std::size_t six_dof = 0;
+  for (const auto& m : r.methods) {
+    if (r.format == "rosbag" && isInertialMethod(m))
+      ++six_dof;
+    else
+      findMatcher(m);  // std::invalid_argument naming an unknown one
+  }
+  if (six_dof > 0 && six_dof < r.methods.size())
+    throw std::invalid_argument("--method: 6-DoF methods (" + inertialMethodChoices() +
+                                ") and planar ones run different pipelines; plan them in separate runs");
+  return six_dof > 0;
+}
+
 /// Every combination of settings parsed as radar_odometry parses them, so a bad name or value is
-/// refused now, not in every task.
-void checkSettings(const PlanRequest& r) {
+/// refused now, not in every task. A switch (--imu) is marked so, its values on and off.
+void checkSettings(PlanRequest& r, bool six_dof) {
   po::options_description opts;
   apps::addPipelineOptions(opts);
-  for (const auto& axis : r.settings) {
-    if (!opts.find_nothrow(axis.name, false))
+  for (auto& axis : r.settings) {
+    const po::option_description* option = opts.find_nothrow(axis.name, false);
+    if (!option)
       throw std::invalid_argument("--set " + axis.name + ": not a pipeline option of radar_odometry (see its --help)");
+    axis.is_switch = option->semantic()->max_tokens() == 0;
     for (const auto& v : axis.values) {
-      std::vector<std::string> args{"radar_odometry", "--format", r.format, "--" + axis.name, v};
+      std::vector<std::string> args{"radar_odometry", "--format", r.format};
+      if (six_dof) args.insert(args.end(), {"--method", r.methods.front()});
+      if (!axis.is_switch)
+        args.insert(args.end(), {"--" + axis.name, v});
+      else if (v == "on")
+        args.push_back("--" + axis.name);
+      else if (v != "off")
+        throw std::invalid_argument("--set " + axis.name + "=" + v + ": --" + axis.name +
+                                    " is a switch: its values are on and off");
       po::variables_map vm;
       std::vector<const char*> argv;
       for (const auto& a : args) argv.push_back(a.c_str());
       po::store(po::parse_command_line(static_cast<int>(argv.size()), argv.data(), opts), vm);
       po::notify(vm);
+      if (six_dof) {
+        apps::inertialSettings(vm);
+        continue;
+      }
       // A bag runs the pipeline of its described radar: a scanning radar's, or the automotive one.
       const bool scanning_bag = r.format == "rosbag" && !r.sensors.empty() &&
                                 readSensorDescription(r.sensors).radars[0].kind == RadarKind::Scanning;
@@ -135,10 +166,11 @@ po::options_description planOptions() {
     ("sensors", po::value<std::string>(), "rosbag: the sensor description every bag is read with (FILE.yaml or preset:NAME)")
     ("sequences", po::value<std::string>(), "comma-separated sequence (scene) names (default: every one found)")
     ("glob", po::value<std::string>(), "only sequences whose name matches this pattern (fnmatch, e.g. '2019-01-1*')")
-    ("method", po::value<std::string>()->default_value("pw-ndt"), "comma-separated methods (radar_odometry --method)")
+    ("method", po::value<std::string>()->default_value("pw-ndt"),
+     "comma-separated methods (radar_odometry --method): planar ones, or (rosbag, a 4D radar) 6-DoF ones")
     ("set", po::value<std::vector<std::string>>()->composing(),
      "NAME=V1,V2,...: a radar_odometry pipeline option and its values, repeatable; the tasks run every "
-     "combination (e.g. --set grid=3,3.75 --set power-shift=0,0.333)")
+     "combination (e.g. --set grid=3,3.75 --set power-shift=0,0.333); a switch takes on and off (--set imu=off,on)")
     ("odometry-app", po::value<std::string>(), "the radar_odometry to run (default: the one beside radar_batch)")
     ("out", po::value<std::string>()->required(), "the run folder (created; plan.json, tasks.tsv, tasks/)");
   // clang-format on
@@ -164,13 +196,13 @@ int plan(int argc, char** argv) {
     readSensorDescription(r.sensors);  // a bad description refused now, not in every task
   }
   r.methods = commaList(vm["method"].as<std::string>());
-  for (const auto& m : r.methods) findMatcher(m);
+  const bool six_dof = checkMethods(r);
   if (vm.count("set"))
     for (const auto& s : vm["set"].as<std::vector<std::string>>()) r.settings.push_back(parseSettingAxis(s));
   r.odometry_app = vm.count("odometry-app") ? fs::absolute(vm["odometry-app"].as<std::string>()).string()
                                             : (fs::path(selfPath()).parent_path() / "radar_odometry").string();
   r.run_dir = fs::absolute(vm["out"].as<std::string>()).lexically_normal().string();
-  checkSettings(r);
+  checkSettings(r, six_dof);
   p.sequences = findSequences(r.format, r.root, r.sequences, r.glob);
   p.tasks = expandPlan(r, p.sequences);
   p.version = RADAR_NDT_VERSION;

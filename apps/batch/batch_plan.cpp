@@ -165,6 +165,10 @@ std::string taskDir(const std::string& run_dir, const std::string& id) {
 std::vector<Task> expandPlan(const PlanRequest& request, const std::vector<Sequence>& sequences) {
   if (request.format == "rosbag" && request.sensors.empty())
     throw std::invalid_argument("--format rosbag needs --sensors FILE.yaml (or preset:NAME)");
+  for (const auto& axis : request.settings)
+    for (const auto& v : axis.values)
+      if (axis.is_switch && v != "on" && v != "off")
+        throw std::invalid_argument("--set " + axis.name + "=" + v + ": a switch's values are on and off");
   // Every combination of the axes' values, the last axis fastest.
   std::vector<std::vector<std::pair<std::string, std::string>>> grid{{}};
   for (const auto& axis : request.settings) {
@@ -194,7 +198,13 @@ std::vector<Task> expandPlan(const PlanRequest& request, const std::vector<Seque
         else
           c.insert(c.end(), {"--sequence", seq.path});
         c.insert(c.end(), {"--method", method});
-        for (const auto& [name, value] : settings) c.insert(c.end(), {"--" + name, value});
+        for (std::size_t i = 0; i < settings.size(); ++i) {
+          const auto& [name, value] = settings[i];
+          if (!request.settings[i].is_switch)
+            c.insert(c.end(), {"--" + name, value});
+          else if (value == "on")
+            c.push_back("--" + name);
+        }
         if (hasGroundTruth(request, seq.path)) c.insert(c.end(), {"--eval", "--metric", "all"});
         c.insert(c.end(),
                  {"--json", "-q", "--out", (fs::path(taskDir(request.run_dir, t.id)) / "trajectory.txt").string()});
@@ -250,7 +260,10 @@ std::vector<std::string> splitShellWords(const std::string& line) {
 void writePlan(const Plan& plan) {
   const auto& r = plan.request;
   json sets = json::array();
-  for (const auto& a : r.settings) sets.push_back({{"name", a.name}, {"values", a.values}});
+  for (const auto& a : r.settings) {
+    sets.push_back({{"name", a.name}, {"values", a.values}});
+    if (a.is_switch) sets.back()["switch"] = true;  // only then: plans without switches read as before
+  }
   json seqs = json::array();
   for (const auto& s : plan.sequences) seqs.push_back({{"name", s.name}, {"path", s.path}});
   const json j = {{"version", plan.version},
@@ -287,7 +300,8 @@ Plan readPlan(const std::string& run_dir) {
     r.glob = j.at("glob");
     r.sensors = j.value("sensors", "");  // absent in plans written before bags were read
     r.methods = j.at("methods").get<std::vector<std::string>>();
-    for (const auto& a : j.at("settings")) r.settings.push_back({a.at("name"), a.at("values")});
+    for (const auto& a : j.at("settings"))
+      r.settings.push_back({a.at("name"), a.at("values"), a.value("switch", false)});
     for (const auto& s : j.at("sequences")) plan.sequences.push_back({s.at("name"), s.at("path")});
     r.odometry_app = j.at("odometry_app");
     r.run_dir = fs::absolute(run_dir).lexically_normal().string();

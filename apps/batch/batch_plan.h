@@ -14,6 +14,9 @@ namespace batch {
 struct SettingAxis {
   std::string name;
   std::vector<std::string> values;
+  /// A switch of radar_odometry's (--imu): its values are on and off, a task's command carries
+  /// `--name` for on and nothing for off (radar_batch plan marks it; plan.json keeps it).
+  bool is_switch = false;
 };
 /// "grid=3,3.75" → {grid, {3, 3.75}}; std::invalid_argument for a malformed one.
 SettingAxis parseSettingAxis(const std::string& text);
@@ -55,7 +58,7 @@ struct PlanRequest {
 
 /// Every sequence x method x setting combination, in that nesting order, with its command:
 /// radar_odometry --format F (--sequence DIR | --dataroot ROOT --scene NAME | --bag BAG --sensors S)
-/// --method M [--NAME VALUE ...] [--eval --metric all] --json -q --out RUN/tasks/ID/trajectory.txt
+/// --method M [--NAME VALUE ... | --SWITCH ...] [--eval --metric all] --json -q --out RUN/tasks/ID/trajectory.txt
 /// (--eval when the sequence has ground truth: for bags, when the description names a topic). Throws
 /// std::invalid_argument for duplicate ids.
 std::vector<Task> expandPlan(const PlanRequest& request, const std::vector<Sequence>& sequences);

@@ -40,6 +40,19 @@ double median(const std::vector<double>& v) {
   return radar_ndt::median(v, kNone);
 }
 
+/// A 6-DoF run's figures (metrics.ate6, re, final); NaN where the summary has none.
+void readSixDof(const json& s, TaskRow& r) {
+  r.ate_posyaw_m = number(s, {"metrics", "ate6", "posyaw", "rmse_m"});
+  r.ate_posyaw_deg = number(s, {"metrics", "ate6", "posyaw", "rot_rmse_deg"});
+  r.ate_se3_m = number(s, {"metrics", "ate6", "se3", "rmse_m"});
+  r.final_pct = number(s, {"metrics", "final", "final_pct"});
+  if (!s.contains("metrics") || !s["metrics"].contains("re") || !s["metrics"]["re"].is_array()) return;
+  std::vector<double> pct;
+  for (const json& e : s["metrics"]["re"]) pct.push_back(number(e, {"trans_mean_pct"}));
+  if (!pct.empty() && std::none_of(pct.begin(), pct.end(), [](double v) { return std::isnan(v); }))
+    r.re_pct = mean(pct);
+}
+
 std::string escapeXml(const std::string& s) {
   std::string out;
   for (char c : s) out += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
@@ -56,11 +69,19 @@ std::string formatNumber(double v) {
 }
 
 const std::vector<MetricColumn>& metricColumns() {
-  static const std::vector<MetricColumn> columns{
-      {"kitti_pct", &TaskRow::kitti_pct},  {"kitti_deg_per_m", &TaskRow::kitti_deg_per_m},
-      {"1m_pct", &TaskRow::one_meter_pct}, {"1m_deg_per_m", &TaskRow::one_meter_deg_per_m},
-      {"frame_m", &TaskRow::frame_m},      {"frame_deg", &TaskRow::frame_deg},
-      {"ate_m", &TaskRow::ate_m},          {"ms_per_scan", &TaskRow::ms_per_scan}};
+  static const std::vector<MetricColumn> columns{{"kitti_pct", &TaskRow::kitti_pct},
+                                                 {"kitti_deg_per_m", &TaskRow::kitti_deg_per_m},
+                                                 {"1m_pct", &TaskRow::one_meter_pct},
+                                                 {"1m_deg_per_m", &TaskRow::one_meter_deg_per_m},
+                                                 {"frame_m", &TaskRow::frame_m},
+                                                 {"frame_deg", &TaskRow::frame_deg},
+                                                 {"ate_m", &TaskRow::ate_m},
+                                                 {"ms_per_scan", &TaskRow::ms_per_scan},
+                                                 {"ate_posyaw_m", &TaskRow::ate_posyaw_m, true},
+                                                 {"ate_posyaw_deg", &TaskRow::ate_posyaw_deg, true},
+                                                 {"ate_se3_m", &TaskRow::ate_se3_m, true},
+                                                 {"re_pct", &TaskRow::re_pct, true},
+                                                 {"final_pct", &TaskRow::final_pct, true}};
   return columns;
 }
 
@@ -88,7 +109,9 @@ std::vector<TaskRow> collectRows(const Plan& plan) {
         r.fallbacks = number(s, {"fallbacks"});
         r.problems = number(s, {"problems"});
         r.ms_per_scan = s.contains("ms_per_scan_median") ? number(s, {"ms_per_scan_median", "total"})
+                        : s.contains("ms_per_scan")      ? number(s, {"ms_per_scan"})  // a 6-DoF run's
                                                          : number(s, {"ms_per_cycle_median", "total"});
+        readSixDof(s, r);
       }
     }
     rows.push_back(std::move(r));
@@ -126,7 +149,7 @@ std::vector<GroupSummary> summarize(const std::vector<TaskRow>& rows) {
 
 int primaryMetric(const std::vector<TaskRow>& rows) {
   const auto& columns = metricColumns();
-  for (const char* name : {"kitti_pct", "1m_pct", "ate_m", "frame_m"})
+  for (const char* name : {"ate_posyaw_m", "kitti_pct", "1m_pct", "ate_m", "frame_m"})
     for (std::size_t c = 0; c < columns.size(); ++c) {
       if (name != std::string(columns[c].name)) continue;
       std::size_t complete = 0, defined = 0;
@@ -138,13 +161,17 @@ int primaryMetric(const std::vector<TaskRow>& rows) {
 }
 
 std::string summaryCsv(const std::vector<TaskRow>& rows) {
+  std::vector<MetricColumn> columns;  // the planar ones always, the 6-DoF ones when a task has one
+  for (const auto& c : metricColumns())
+    if (!c.six_dof || std::any_of(rows.begin(), rows.end(), [&](const TaskRow& r) { return !std::isnan(r.*c.field); }))
+      columns.push_back(c);
   std::string csv = "id,sequence,method,settings,status,exit_code";
-  for (const auto& c : metricColumns()) csv += std::string(",") + c.name;
+  for (const auto& c : columns) csv += std::string(",") + c.name;
   csv += ",scans,fallbacks,problems,log\n";
   for (const TaskRow& r : rows) {
     csv += r.task.id + "," + r.task.sequence + "," + r.task.method + "," + r.task.settingsText() + "," +
            toString(r.state) + "," + (r.exit_code >= 0 ? std::to_string(r.exit_code) : "");
-    for (const auto& c : metricColumns()) csv += "," + formatNumber(r.*c.field);
+    for (const auto& c : columns) csv += "," + formatNumber(r.*c.field);
     csv += "," + formatNumber(r.scans) + "," + formatNumber(r.fallbacks) + "," + formatNumber(r.problems) + "," +
            r.log + "\n";
   }

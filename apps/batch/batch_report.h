@@ -23,6 +23,9 @@ struct TaskRow {
   int exit_code = -1;
   double kitti_pct = kNone, kitti_deg_per_m = kNone, one_meter_pct = kNone, one_meter_deg_per_m = kNone;
   double frame_m = kNone, frame_deg = kNone, ate_m = kNone;
+  /// 6-DoF runs: ATE with position + yaw and with SE(3) alignment, the relative error's mean
+  /// translation in % of the distance over its distances, the final position error in %.
+  double ate_posyaw_m = kNone, ate_posyaw_deg = kNone, ate_se3_m = kNone, re_pct = kNone, final_pct = kNone;
   double scans = kNone, fallbacks = kNone, problems = kNone, ms_per_scan = kNone;
   std::string log;  ///< the task's log, relative to the run folder
 };
@@ -30,10 +33,12 @@ struct TaskRow {
 /// The rows of every task of `plan`, in plan order.
 std::vector<TaskRow> collectRows(const Plan& plan);
 
-/// The metric columns, in report order: name and the row's value.
+/// The metric columns, in report order: name and the row's value; the 6-DoF runs' columns are in
+/// summary.csv only when a task has one (a planar run's file is as it was).
 struct MetricColumn {
   const char* name;
   double TaskRow::*field;
+  bool six_dof = false;
 };
 const std::vector<MetricColumn>& metricColumns();
 
@@ -46,8 +51,9 @@ struct GroupSummary {
 };
 std::vector<GroupSummary> summarize(const std::vector<TaskRow>& rows);
 
-/// The metric column the best setting is chosen by: the first of KITTI %, 1 m %, ATE m and frame m
-/// defined for every complete task (-1: none), so every setting is judged on the same sequences.
+/// The metric column the best setting is chosen by: the first of ATE m with position + yaw
+/// alignment (6-DoF runs), KITTI %, 1 m %, ATE m and frame m defined for every complete task (-1:
+/// none), so every setting is judged on the same sequences.
 int primaryMetric(const std::vector<TaskRow>& rows);
 
 std::string summaryCsv(const std::vector<TaskRow>& rows);

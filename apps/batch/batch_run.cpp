@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "radar_ndt/io/atomic_file.h"
+#include "radar_ndt/pipeline/inertial_run.h"
 
 namespace radar_ndt {
 namespace batch {
@@ -47,7 +48,8 @@ int executeTask(const std::string& run_dir, const Task& task, int threads) {
   fs::create_directories(dir);
   const std::string log = (dir / "log.txt").string(), out = (dir / "stdout.json").string();
   std::vector<std::string> argv = task.command;
-  argv.insert(argv.end(), {"--threads", std::to_string(threads)});
+  // A 6-DoF run is one stream on one thread: radar_odometry refuses --threads for it.
+  if (!isInertialMethod(task.method)) argv.insert(argv.end(), {"--threads", std::to_string(threads)});
   const auto t0 = std::chrono::steady_clock::now();
   std::fflush(nullptr);
   const pid_t pid = fork();

@@ -3,6 +3,7 @@ real Oxford scans; summary.csv equals each task run alone; report is byte-stable
 skips finished tasks, a lost result reruns alone, a failing task keeps its log and stops nothing;
 a killed run leaves no partial result."""
 
+import json
 import os
 import pathlib
 import shutil
@@ -12,7 +13,8 @@ import time
 
 import pytest
 
-from conftest import APP_DIR, BATCH, METRICS, NUSCENES, ODOMETRY, OXFORD, alone_figures, fmt, need, read_csv, sh, tasks_of
+from conftest import (APP_DIR, BATCH, METRICS, NUSCENES, ODOMETRY, OXFORD, SHARED, SIM, alone_figures, fmt, need,
+                      read_csv, sh, tasks_of)
 
 
 @pytest.fixture(scope="module")
@@ -82,6 +84,46 @@ def test_bags_of_the_scenes_report_the_scenes_figures(nuscenes_run, tmp_path):
     for r in rows:  # a bag of a scene is the scene: the same figures to the last printed digit
         assert all(r[m] == scenes[(r["sequence"], r["method"])][m] for m in METRICS), r
     assert "--sensors preset:nuscenes_ars408" in (run / "tasks.tsv").read_text()
+
+
+def test_a_4d_radars_bags_run_six_dof_with_the_imu_switched_off_and_on(tmp_path):
+    """A 6-DoF plan: simulated 4D radar bags (the TI preset carried along the shared hand-held
+    walks), `--set imu=off,on` as the switch it is, the rows equal to each task run alone."""
+    walks = need(SHARED / "handheld-6dof")
+    if not (APP_DIR / "radar_nuscenes_to_bag").exists():
+        pytest.skip("this build has no ROS 1 support (bash .ci/deps installs Debian's ROS 1)")
+    bags = tmp_path / "4d bags"
+    bags.mkdir()
+    for walk in ("carried_1", "carried_4"):
+        sh(SIM, "--type", "4d", "--preset", "ti_iwr6843_rio", "--trajectory", walks / f"{walk}.txt", "--imu", "mems",
+           "--out", tmp_path / walk)
+        (tmp_path / walk / "radar.bag").rename(bags / f"{walk}.bag")
+    sensors = tmp_path / "carried_1" / "sensors.yaml"
+    run = tmp_path / "six dof"
+    sh(BATCH, "plan", "--format", "rosbag", "--root", bags, "--sensors", sensors, "--method", "pw-ndt-3d",
+       "--set", "imu=off,on", "--out", run)
+    out = sh(BATCH, "run", run, "--engine", "parallel", "-j", "2").stdout
+    assert "4 complete, 0 failed" in out, out
+    sh(BATCH, "report", run)
+    commands = tasks_of(run)
+    rows = read_csv(run / "summary.csv")
+    assert sorted((r["sequence"], r["settings"]) for r in rows) == [
+        ("carried_1", "imu=off"), ("carried_1", "imu=on"), ("carried_4", "imu=off"), ("carried_4", "imu=on")]
+    for r in rows:
+        assert ("--imu" in commands[r["id"]]) == (r["settings"] == "imu=on")
+        argv = list(commands[r["id"]])
+        argv[argv.index("--out") + 1] = str(tmp_path / "alone.txt")
+        alone = json.loads(sh(*argv).stdout)["metrics"]
+        assert r["ate_posyaw_m"] == fmt(alone["ate6"]["posyaw"]["rmse_m"]), r
+        assert r["final_pct"] == fmt(alone["final"]["final_pct"]), r
+    assert "lowest mean ate_posyaw_m" in (run / "summary.md").read_text()
+    # 6-DoF and planar methods run different pipelines: one plan takes one kind.
+    done = sh(BATCH, "plan", "--format", "rosbag", "--root", bags, "--sensors", sensors, "--method",
+              "pw-ndt-3d,pw-ndt", "--out", tmp_path / "mixed", check=False)
+    assert done.returncode == 1 and "plan them in separate runs" in done.stderr, done.stderr
+    done = sh(BATCH, "plan", "--format", "rosbag", "--root", bags, "--sensors", sensors, "--method", "pw-ndt-3d",
+              "--set", "imu=yes", "--out", tmp_path / "bad switch", check=False)
+    assert done.returncode == 1 and "on and off" in done.stderr, done.stderr
 
 
 def test_the_real_oxford_scans_and_a_failing_setting(tmp_path):

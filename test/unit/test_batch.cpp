@@ -2,6 +2,7 @@
 // stable ids, shell quoting of paths with spaces, which tasks a second run runs, and the report's
 // means and medians against hand-computed ones.
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -232,4 +233,89 @@ TEST(BatchReport, MeansAndMediansOverSequencesAsComputedByHand) {
   EXPECT_EQ(formatNumber(1.0 / 3), "0.333333333");
   EXPECT_EQ(formatNumber(kNone), "");
   EXPECT_EQ(summarySvg(rows), summarySvg(rows));
+}
+
+TEST(BatchPlan, ASwitchAxisGivesTheSwitchForOnAndNothingForOff) {
+  const fs::path dir = scratch("switch");
+  radar_ndt::writeFileAtomically((dir / "walk.bag").string(), "#ROSBAG V2.0\n");
+  PlanRequest r;
+  r.format = "rosbag";
+  r.root = (dir / "walk.bag").string();
+  r.sensors = "preset:ti_iwr6843_rio";
+  r.methods = {"pw-ndt-3d", "doppler-imu"};
+  r.settings = {parseSettingAxis("imu=off,on"), parseSettingAxis("radar-latency=0.125")};
+  r.settings[0].is_switch = true;
+  r.odometry_app = "radar_odometry";
+  r.run_dir = (dir / "run").string();
+  const auto bags = findSequences("rosbag", r.root);
+  const auto tasks = expandPlan(r, bags);
+  ASSERT_EQ(tasks.size(), 4u);
+  const auto has = [](const Task& t, const std::string& word) {
+    return std::find(t.command.begin(), t.command.end(), word) != t.command.end();
+  };
+  EXPECT_EQ(tasks[0].settingsText(), "imu=off radar-latency=0.125");
+  EXPECT_FALSE(has(tasks[0], "--imu"));
+  EXPECT_FALSE(has(tasks[0], "off"));
+  EXPECT_TRUE(has(tasks[1], "--imu"));
+  EXPECT_FALSE(has(tasks[1], "on"));
+  EXPECT_TRUE(has(tasks[1], "--radar-latency") && has(tasks[1], "0.125"));
+  EXPECT_NE(tasks[0].id, tasks[1].id);
+  // plan.json keeps the axis a switch; a plan without one reads as before.
+  writePlan({r, bags, tasks, "0.2.0", "abc"});
+  const Plan back = readPlan(r.run_dir);
+  EXPECT_TRUE(back.request.settings[0].is_switch);
+  EXPECT_FALSE(back.request.settings[1].is_switch);
+  EXPECT_EQ(back.tasks[1].command, tasks[1].command);
+  r.settings[0] = parseSettingAxis("imu=yes");
+  r.settings[0].is_switch = true;
+  EXPECT_THROW(expandPlan(r, bags), std::invalid_argument);
+  fs::remove_all(dir);
+}
+
+TEST(BatchReport, ASixDofRunsFiguresAreReadAndChooseTheBest) {
+  const fs::path dir = scratch("six_dof");
+  Plan plan;
+  plan.request.run_dir = dir.string();
+  const auto result = [&](const Task& t, double posyaw, double re10, double re20) {
+    const nlohmann::json metrics = {
+        {"ate6",
+         {{"se3", {{"rmse_m", posyaw + 0.5}, {"rot_rmse_deg", 3.0}}},
+          {"posyaw", {{"rmse_m", posyaw}, {"rot_rmse_deg", 2.0}}}}},
+        {"re", {{{"distance_m", 10.0}, {"trans_mean_pct", re10}}, {{"distance_m", 20.0}, {"trans_mean_pct", re20}}}},
+        {"final", {{"final_m", 3.0}, {"final_pct", 1.5}, {"distance_m", 200.0}}},
+        {"kitti", {{"trans_err_pct", 9.0}}}};
+    const nlohmann::json summary = {
+        {"pipeline", "6-DoF"}, {"scans", 100}, {"fallbacks", 2}, {"ms_per_scan", 0.25}, {"metrics", metrics}};
+    fs::create_directories(taskDir(dir.string(), t.id));
+    radar_ndt::writeFileAtomically(
+        (fs::path(taskDir(dir.string(), t.id)) / "result.json").string(),
+        nlohmann::json{{"command", joinShellWords(t.command)}, {"exit_code", 0}, {"summary", summary}}.dump());
+  };
+  plan.tasks = {Task{taskId("walk", "pw-ndt-3d", {}), "walk", "pw-ndt-3d", {}, {"radar_odometry", "--a"}},
+                Task{taskId("walk", "doppler-imu", {}), "walk", "doppler-imu", {}, {"radar_odometry", "--b"}}};
+  result(plan.tasks[0], 0.75, 1.0, 3.0);
+  result(plan.tasks[1], 1.25, 2.0, 2.0);
+  const auto rows = collectRows(plan);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_DOUBLE_EQ(rows[0].ate_posyaw_m, 0.75);
+  EXPECT_DOUBLE_EQ(rows[0].ate_posyaw_deg, 2.0);
+  EXPECT_DOUBLE_EQ(rows[0].ate_se3_m, 1.25);
+  EXPECT_DOUBLE_EQ(rows[0].re_pct, 2.0);  // the mean over the distances
+  EXPECT_DOUBLE_EQ(rows[0].final_pct, 1.5);
+  EXPECT_DOUBLE_EQ(rows[0].ms_per_scan, 0.25);
+  EXPECT_DOUBLE_EQ(rows[0].scans, 100);
+  // ATE with position + yaw alignment judges 6-DoF runs, ahead of the planar figures they also have.
+  const int primary = primaryMetric(rows);
+  ASSERT_GE(primary, 0);
+  EXPECT_STREQ(metricColumns()[primary].name, "ate_posyaw_m");
+  const std::string csv = summaryCsv(rows);
+  EXPECT_NE(csv.find(",ate_posyaw_m,ate_posyaw_deg,ate_se3_m,re_pct,final_pct,"), std::string::npos);
+  EXPECT_NE(csv.find(",0.75,2,1.25,2,1.5,"), std::string::npos);
+  // A planar run's file has no 6-DoF column.
+  TaskRow planar;
+  planar.task = plan.tasks[0];
+  planar.state = TaskState::Complete;
+  planar.kitti_pct = 1.0;
+  EXPECT_EQ(summaryCsv({planar}).find("ate_posyaw"), std::string::npos);
+  fs::remove_all(dir);
 }

@@ -204,3 +204,34 @@ TEST(RunReport, ARunsEvaluationCarriesItsPriorUnderItsOwnName) {
   EXPECT_NE(whole.find("<svg"), std::string::npos);
   EXPECT_NE(whole.find("</svg>"), std::string::npos);
 }
+
+TEST(RunReport, ASixDofEvaluationsPlotHasItsSideViewAndAPlanarOneHasNone) {
+  // A ramp: 2 m forward and 0.5 m up a pose on the truth, the estimate 0.25 m a pose too low.
+  Trajectory gt, est;
+  for (int k = 0; k < 20; ++k) {
+    Eigen::Isometry3d g = Eigen::Isometry3d::Identity();
+    g.translation() = Eigen::Vector3d(2.0 * k, 0, 0.5 * k);
+    Eigen::Isometry3d e = g;
+    e.translation().z() -= 0.25 * k;
+    gt.stamps.push_back(0.1 * k);
+    est.stamps.push_back(0.1 * k);
+    gt.poses.push_back(g);
+    est.poses.push_back(e);
+  }
+  const PosePairs pairs = associate(gt, est);
+  const auto read = [](const std::string& path) {
+    std::ifstream in(path);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::string six = ::testing::TempDir() + "run_report_6dof.svg";
+  writeEvaluationSvg(six, pairs, evaluate(pairs, {Metric::Ate6Dof, Metric::Frame}), "walk");
+  const std::string s = read(six);
+  EXPECT_NE(s.find("height='900'"), std::string::npos);
+  EXPECT_NE(s.find("distance travelled (m)"), std::string::npos);
+  EXPECT_NE(s.find("height z (m)"), std::string::npos);
+  const std::string planar = ::testing::TempDir() + "run_report_planar.svg";
+  writeEvaluationSvg(planar, pairs, evaluate(pairs, {Metric::Frame}), "drive");
+  const std::string p = read(planar);
+  EXPECT_NE(p.find("height='600'"), std::string::npos);
+  EXPECT_EQ(p.find("height z"), std::string::npos);
+}

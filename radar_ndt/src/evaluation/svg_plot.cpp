@@ -208,11 +208,35 @@ void frameErrors(std::ostringstream& out, const PosePairs& pairs) {
   c.polyline(idx, err, "#d62728", 1.0);
 }
 
+/// Panel 3 of a 6-DoF evaluation: the side view, both heights over the distance the ground truth
+/// has travelled (pose by pose, as given: the estimate's height drift shows as it grows).
+void sideView(std::ostringstream& out, const PosePairs& pairs, Box box) {
+  std::vector<double> dist, gz, ez;
+  double d = 0;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (i > 0) d += (pairs.gt[i].translation() - pairs.gt[i - 1].translation()).norm();
+    dist.push_back(d);
+    gz.push_back(pairs.gt[i].translation().z());
+    ez.push_back(pairs.est[i].translation().z());
+  }
+  double zmin = std::numeric_limits<double>::max(), zmax = -zmin;
+  range(gz, zmin, zmax);
+  range(ez, zmin, zmax);
+  const double pad = std::max(0.05 * (zmax - zmin), 0.5);
+  Chart c(out, box, 0, std::max(d, 1e-9), zmin - pad, zmax + pad, false);
+  c.axes("distance travelled (m)", "height z (m)");
+  c.polyline(dist, gz, "#1f77b4");
+  c.polyline(dist, ez, "#d62728");
+  c.legend(0, "ground truth", "#1f77b4");
+  c.legend(1, "estimate", "#d62728");
+}
+
 }  // namespace
 
 void writeEvaluationSvg(const std::string& path, const PosePairs& pairs, const EvaluationReport& report,
                         const std::string& title) {
-  const double W = 1200, H = 600;
+  const bool six_dof = report.ate_se3.has_value();  // a 6-DoF run's evaluation: its side view below
+  const double W = 1200, H = six_dof ? 900 : 600;
   std::ostringstream out;
   out << "<?xml version='1.0' encoding='UTF-8'?>\n<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='"
       << H << "' viewBox='0 0 " << W << ' ' << H << "' font-family='sans-serif'>\n";
@@ -223,6 +247,7 @@ void writeEvaluationSvg(const std::string& path, const PosePairs& pairs, const E
     kittiErrors(out, *report.kitti);
   else
     frameErrors(out, pairs);
+  if (six_dof) sideView(out, pairs, Box{70, 630, 1090, 220});
   out << "</svg>\n";
   writeFileAtomically(path, out.str());
 }

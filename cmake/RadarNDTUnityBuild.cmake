@@ -1,5 +1,5 @@
-# Unity builds of the project's libraries and multi-file programs (never of the test executables,
-# one file each). Their translation units are short and parse-bound: each one parses Eigen, PCL's
+# Unity builds of the project's libraries, multi-file programs and test executables (the unit tests
+# one executable a layer). Their translation units are short and parse-bound: each one parses Eigen, PCL's
 # point cloud and registration and the pipeline headers above them before its own few hundred
 # lines, and .ci/run compiles everything twice (Release, then ASan + UBSan). CMake compiles a
 # target's sources in batches of eight, one translation unit a batch, so the headers are parsed
@@ -8,7 +8,7 @@
 # must be unique across a target (no two anonymous-namespace helpers of one name), and editing one
 # file recompiles its batch. -DRADAR_NDT_UNITY_BUILD=OFF compiles every file on its own
 # (docs/testing.md: the configurations).
-option(RADAR_NDT_UNITY_BUILD "Compile the project's libraries in batches of sources (faster full builds)" ON)
+option(RADAR_NDT_UNITY_BUILD "Compile the project's libraries and tests in batches of sources (faster full builds)" ON)
 
 function(radar_ndt_unity_build target)
   if(RADAR_NDT_UNITY_BUILD)

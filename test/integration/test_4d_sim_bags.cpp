@@ -33,7 +33,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string tempPath(const std::string& name) {
+std::string simBagPath(const std::string& name) {
   const fs::path dir = fs::path(::testing::TempDir()) / "radar_ndt_4d_sim_bags";
   fs::create_directories(dir);
   return (dir / name).string();
@@ -77,7 +77,7 @@ TEST_P(Radar4DSimBag, IsReadBackThroughItsDriversPresetAsWritten) {
   SensorDescription d = readSensorDescription(std::string("preset:") + GetParam().preset);
   d.ground_truth_topic = "/gt";
   const ros1::Radar4DRecording r = recording();
-  const std::string path = tempPath(std::string(GetParam().preset) + ".bag");
+  const std::string path = simBagPath(std::string(GetParam().preset) + ".bag");
   const ros1::Radar4DBagStats stats = ros1::writeRadar4DBag(path, GetParam().layout, d, r);
   EXPECT_EQ(stats.scans, 6u);
   EXPECT_EQ(stats.imu, 70u);
@@ -136,7 +136,7 @@ TEST(Radar4DSimBag, TheTiLayoutIsTheRealDriversFieldByField) {
   const std::string rio = std::string(RADAR_NDT_SHARED_DATA) + "/ros-rio-ti-mmwave/ti_mmwave_rospkg_demo.bag";
   if (!fs::exists(rio)) GTEST_SKIP() << "no " << rio << " (../shared/data is absent)";
   const SensorDescription d = readSensorDescription("preset:ti_iwr6843_rio");
-  const std::string path = tempPath("ti_layout.bag");
+  const std::string path = simBagPath("ti_layout.bag");
   ros1::writeRadar4DBag(path, ros1::Radar4DBagLayout::TiMmwave, d, recording());
   const sensor_msgs::PointCloud2 real = firstCloud(rio, d.radars[0].topic);
   const sensor_msgs::PointCloud2 ours = firstCloud(path, d.radars[0].topic);
@@ -158,12 +158,12 @@ TEST(Radar4DSimBag, ScansAndStampsThatDisagreeOrPrecede1970AreRefused) {
   const SensorDescription d = readSensorDescription("preset:snail_radar_ars548");
   ros1::Radar4DRecording r = recording();
   r.stamps.pop_back();
-  EXPECT_THROW(ros1::writeRadar4DBag(tempPath("bad.bag"), ros1::Radar4DBagLayout::SnailArs548, d, r),
+  EXPECT_THROW(ros1::writeRadar4DBag(simBagPath("bad.bag"), ros1::Radar4DBagLayout::SnailArs548, d, r),
                std::invalid_argument);
   r = recording();
   r.stamps[0] = -1.0;
   try {
-    ros1::writeRadar4DBag(tempPath("bad.bag"), ros1::Radar4DBagLayout::SnailArs548, d, r);
+    ros1::writeRadar4DBag(simBagPath("bad.bag"), ros1::Radar4DBagLayout::SnailArs548, d, r);
     ADD_FAILURE() << "a negative time was written";
   } catch (const IoError& e) {
     EXPECT_NE(std::string(e.what()).find("bad.bag"), std::string::npos) << e.what();
@@ -237,7 +237,7 @@ TEST(Radar4DSimBag, DopplerImuRunsOnASimulatedBagAsOnTheSequence) {
   // doppler-imu on them and the IMU's 6-axis readings, against the bag's own truth. Read in the
   // wrong axes, it is far off.
   SensorDescription d;
-  const std::string path = tempPath("eagle_drive.bag");
+  const std::string path = simBagPath("eagle_drive.bag");
   const auto [length, imu_messages] = writeEagleDrive(path, d);
   const ros1::RosbagRadarSequence bag(path, d);
   ASSERT_EQ(bag.imuSamples().size(), imu_messages);
@@ -274,9 +274,9 @@ TEST(Radar4DSimBag, DopplerImuRunsOnASimulatedBagAsOnTheSequence) {
 // it needs and a setting of the planar pipeline are refused by name.
 TEST(Radar4DSimBag, TheSixDofRunReadsASimulatedBag) {
   SensorDescription d;
-  const std::string path = tempPath("eagle_run.bag");
+  const std::string path = simBagPath("eagle_run.bag");
   const double length = writeEagleDrive(path, d).first;
-  const std::string sensors = tempPath("eagle_run.yaml");
+  const std::string sensors = simBagPath("eagle_run.yaml");
   {
     std::ifstream in(sensorPresetDirectory() + "/ntu4dradlm_eagle.yaml");
     std::ofstream out(sensors);

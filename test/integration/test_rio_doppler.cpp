@@ -27,12 +27,12 @@ using namespace radar_ndt;
 namespace fs = std::filesystem;
 
 namespace {
-const std::string kRio = std::string(RADAR_NDT_SHARED_DATA) + "/ros-rio-ti-mmwave/ti_mmwave_rospkg_demo.bag";
+const std::string kRioBag = std::string(RADAR_NDT_SHARED_DATA) + "/ros-rio-ti-mmwave/ti_mmwave_rospkg_demo.bag";
 
 /// The bag's IMU messages at their receive times (the scans' clock).
 std::vector<ImuSample> readImu() {
   std::vector<ImuSample> imu;
-  rosbag::Bag bag(kRio, rosbag::bagmode::Read);
+  rosbag::Bag bag(kRioBag, rosbag::bagmode::Read);
   for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery("/sensor_platform/imu"))) {
     const auto msg = m.instantiate<sensor_msgs::Imu>();
     if (!msg) continue;
@@ -52,8 +52,8 @@ std::vector<ImuSample> readImu() {
 // IMU's: the latency is found here as the shift that maximises the summed correlation. A wrong
 // Doppler sign or mounting turns the correlations negative or sideways.
 TEST(Rosbag, TheRioBagsDopplerVelocityChangesAsItsAccelerometerSays) {
-  if (!fs::exists(kRio)) GTEST_SKIP() << "no " << kRio << " (../shared/data is absent)";
-  const ros1::RosbagRadarSequence seq(kRio, readSensorDescription("preset:ti_iwr6843_rio"));
+  if (!fs::exists(kRioBag)) GTEST_SKIP() << "no " << kRioBag << " (../shared/data is absent)";
+  const ros1::RosbagRadarSequence seq(kRioBag, readSensorDescription("preset:ti_iwr6843_rio"));
   const std::vector<ImuSample> imu = readImu();
   ASSERT_GT(imu.size(), 8000u);
   auto meanOver = [&](double t0, double t1, Eigen::Vector3d ImuSample::*field) {
@@ -142,8 +142,8 @@ TEST(Rosbag, TheRioBagsDopplerVelocityChangesAsItsAccelerometerSays) {
 // it ends from its start and how much its height wanders, with the latency found above. The
 // figures docs/results/ego_velocity_3d.md quotes.
 TEST(Rosbag, DopplerImuRunsOnTheRioBag) {
-  if (!fs::exists(kRio)) GTEST_SKIP() << "no " << kRio << " (../shared/data is absent)";
-  const ros1::RosbagRadarSequence seq(kRio, readSensorDescription("preset:ti_iwr6843_rio"));
+  if (!fs::exists(kRioBag)) GTEST_SKIP() << "no " << kRioBag << " (../shared/data is absent)";
+  const ros1::RosbagRadarSequence seq(kRioBag, readSensorDescription("preset:ti_iwr6843_rio"));
   const std::vector<ImuSample> imu = readImu();
   const EgoVelocity3DEstimator estimator;
   std::vector<BodyVelocitySample> velocities;
@@ -186,7 +186,7 @@ TEST(Rosbag, DopplerImuRunsOnTheRioBag) {
 // estimated displacement (the rig does not move), the estimate's roll and pitch against the
 // accelerometer's gravity at the still end, and the fallbacks.
 TEST(Rosbag, RadarInertialOdometryOnTheRioBag) {
-  if (!fs::exists(kRio)) GTEST_SKIP() << "no " << kRio << " (../shared/data is absent)";
+  if (!fs::exists(kRioBag)) GTEST_SKIP() << "no " << kRioBag << " (../shared/data is absent)";
   ros1::registerBagReader();
   const std::vector<ImuSample> imu = readImu();
   const SphericalAccuracy accuracy = sim::radar4DPreset("ti_iwr6843_rio").accuracy;
@@ -197,7 +197,7 @@ TEST(Rosbag, RadarInertialOdometryOnTheRioBag) {
                          {"accuracy.range_sigma", FieldValue(accuracy.range_sigma)},
                          {"accuracy.azimuth_sigma_deg", FieldValue(accuracy.azimuth_sigma_deg)},
                          {"accuracy.elevation_sigma_deg", FieldValue(accuracy.elevation_sigma_deg)}};
-    const OdometryRun run({"rosbag", kRio, "", "", "preset:ti_iwr6843_rio"}, given);
+    const OdometryRun run({"rosbag", kRioBag, "", "", "preset:ti_iwr6843_rio"}, given);
     ASSERT_EQ(run.pipeline(), PipelineKind::Inertial);
     const InertialRunResult result = run.runInertial();
     std::vector<OdometryStep3D> steps;

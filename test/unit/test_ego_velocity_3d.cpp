@@ -12,13 +12,12 @@
 #include <vector>
 
 #include "radar_ndt/frontend/ego_velocity_3d.h"
+#include "radar_ndt/se2.h"
 #include "radar_ndt/sim/radar_4d.h"
 
 using namespace radar_ndt;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct Scan {
   std::vector<Eigen::Vector3d> positions;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "command_line_support.h"
 #include "field_options.h"
 #include "pipeline_options.h"
 
@@ -21,19 +22,6 @@ const FieldOption<R>& find(const std::vector<FieldOption<R>>& fields, const std:
   for (const auto& f : fields)
     if (f.option == option && f.scope == scope) return f;
   throw std::logic_error("no option " + option + " " + scope);
-}
-
-/// The options radar_odometry's command line `args` gives, for --format `format`.
-boost::program_options::variables_map parse(const std::vector<std::string>& args) {
-  boost::program_options::options_description opts;
-  apps::addPipelineOptions(opts);
-  std::vector<const char*> argv{"radar_odometry"};
-  for (const auto& a : args) argv.push_back(a.c_str());
-  boost::program_options::variables_map vm;
-  boost::program_options::store(
-      boost::program_options::parse_command_line(static_cast<int>(argv.size()), argv.data(), opts), vm);
-  boost::program_options::notify(vm);
-  return vm;
 }
 
 }  // namespace
@@ -69,39 +57,49 @@ TEST(FieldOptions, ALayoutsOwnOptionsReachOnlyItsStruct) {
   const auto fields = apps::fieldOptions(ScanningRunOptions{});
   EXPECT_EQ(find(fields, "bin-size", "oxford").path, "sequence.oxford.convention.range_resolution");
   EXPECT_EQ(find(fields, "bin-size", "boreas").path, "sequence.boreas.range_resolution");
-  const ScanningRunOptions boreas = apps::scanningOptions(parse({"--format", "boreas", "--bin-size", "0.05"}));
+  const ScanningRunOptions boreas =
+      apps::scanningOptions(test::parseOdometryCommandLine({"--format", "boreas", "--bin-size", "0.05"}));
   EXPECT_EQ(boreas.sequence.boreas.range_resolution, 0.05);
   EXPECT_EQ(boreas.sequence.oxford.convention.range_resolution,
             ScanningRunOptions().sequence.oxford.convention.range_resolution);
-  const ScanningRunOptions oxford = apps::scanningOptions(parse({"--format", "oxford", "--bin-size", "0.05"}));
+  const ScanningRunOptions oxford =
+      apps::scanningOptions(test::parseOdometryCommandLine({"--format", "oxford", "--bin-size", "0.05"}));
   EXPECT_EQ(oxford.sequence.oxford.convention.range_resolution, 0.05);
   EXPECT_EQ(oxford.sequence.boreas.range_resolution, 0.0);
 }
 
 TEST(FieldOptions, ThePipelinesOptionsAreAppliedAsRadarOdometryAppliesThem) {
-  const AutomotiveRunOptions rapp = apps::automotiveOptions(parse({"--format", "nuscenes", "--method", "rapp-ndt"}));
+  const AutomotiveRunOptions rapp =
+      apps::automotiveOptions(test::parseOdometryCommandLine({"--format", "nuscenes", "--method", "rapp-ndt"}));
   EXPECT_TRUE(rapp.odometry.doppler_weights) << "the method and what it needs, by one call";
   EXPECT_FALSE(rapp.front_end.remove_moving);
-  const AutomotiveRunOptions paper =
-      apps::automotiveOptions(parse({"--format", "nuscenes", "--mode", "paper", "--submap", "5"}));
+  const AutomotiveRunOptions paper = apps::automotiveOptions(
+      test::parseOdometryCommandLine({"--format", "nuscenes", "--mode", "paper", "--submap", "5"}));
   EXPECT_EQ(paper.odometry.mode, AutomotiveMatchMode::SubmapToSubmap);
   EXPECT_EQ(paper.odometry.submap_size, 5u);
   EXPECT_FALSE(paper.odometry.fuse_doppler) << "the paper's scheme is not fused";
-  const AutomotiveRunOptions grid = apps::automotiveOptions(parse({"--format", "nuscenes", "--grid", "4"}));
+  const AutomotiveRunOptions grid =
+      apps::automotiveOptions(test::parseOdometryCommandLine({"--format", "nuscenes", "--grid", "4"}));
   EXPECT_EQ(grid.matcher.grid, 4.0);
-  EXPECT_THROW(apps::automotiveOptions(parse({"--format", "nuscenes", "--method", "gicp"})), std::invalid_argument);
-  const ScanningRunOptions scanning =
-      apps::scanningOptions(parse({"--format", "oxford", "--power-shift", "0.2", "--no-prefetch"}));
+  EXPECT_THROW(apps::automotiveOptions(test::parseOdometryCommandLine({"--format", "nuscenes", "--method", "gicp"})),
+               std::invalid_argument);
+  const ScanningRunOptions scanning = apps::scanningOptions(
+      test::parseOdometryCommandLine({"--format", "oxford", "--power-shift", "0.2", "--no-prefetch"}));
   EXPECT_EQ(scanning.matcher.power_shift, 0.2f);
   EXPECT_EQ(scanning.threads, 1);
-  EXPECT_THROW(apps::scanningOptions(parse({"--format", "oxford", "--method", "doppler"})), std::invalid_argument);
+  EXPECT_THROW(apps::scanningOptions(test::parseOdometryCommandLine({"--format", "oxford", "--method", "doppler"})),
+               std::invalid_argument);
 }
 
 TEST(FieldOptions, AnOptionThatSetsNothingForTheFormatIsRefused) {
   // --threshold is the scanning front-end's; --bins is Oxford's and Boreas's, not RADIATE's.
-  EXPECT_THROW(apps::automotiveOptions(parse({"--format", "nuscenes", "--threshold", "0.3"})), std::invalid_argument);
-  EXPECT_THROW(apps::scanningOptions(parse({"--format", "radiate", "--bins", "10"})), std::invalid_argument);
-  EXPECT_EQ(apps::scanningOptions(parse({"--format", "boreas", "--bins", "6848"})).sequence.boreas.expected_bins,
+  EXPECT_THROW(apps::automotiveOptions(test::parseOdometryCommandLine({"--format", "nuscenes", "--threshold", "0.3"})),
+               std::invalid_argument);
+  EXPECT_THROW(apps::scanningOptions(test::parseOdometryCommandLine({"--format", "radiate", "--bins", "10"})),
+               std::invalid_argument);
+  EXPECT_EQ(apps::scanningOptions(test::parseOdometryCommandLine({"--format", "boreas", "--bins", "6848"}))
+                .sequence.boreas.expected_bins,
             6848u);
-  EXPECT_NO_THROW(apps::automotiveOptions(parse({"--format", "nuscenes", "--grid", "3"}))) << "both pipelines'";
+  EXPECT_NO_THROW(apps::automotiveOptions(test::parseOdometryCommandLine({"--format", "nuscenes", "--grid", "3"})))
+      << "both pipelines'";
 }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "command_line_support.h"
 #include "field_options.h"
 #include "node/node_parameters.h"
 #include "pipeline_options.h"
@@ -76,17 +77,6 @@ std::string cliText(const FieldValue& v) {
   return out;
 }
 
-po::variables_map parse(const std::vector<std::string>& args) {
-  po::options_description opts;
-  apps::addPipelineOptions(opts);
-  std::vector<const char*> argv{"radar_odometry"};
-  for (const auto& a : args) argv.push_back(a.c_str());
-  po::variables_map vm;
-  po::store(po::parse_command_line(static_cast<int>(argv.size()), argv.data(), opts), vm);
-  po::notify(vm);
-  return vm;
-}
-
 /// The options a build gives, or the refusal's first words (its text names the caller's spelling).
 template <typename R, typename Build>
 std::string outcome(const Build& build) {
@@ -121,7 +111,7 @@ void compareEveryField(const std::string& format, const FromSettings& from_setti
         if (!f.off_switch_help)  // a flag the command line spells by its own two names takes them
           args.push_back(f.true_name && v.kind() == FieldValue::Kind::Bool ? (v.boolean() ? f.true_name : f.false_name)
                                                                            : cliText(v));
-        cli = outcome<R>([&] { return from_cli(parse(args)); });
+        cli = outcome<R>([&] { return from_cli(test::parseOdometryCommandLine(args)); });
         ++via_cli;
       } else {
         cli = outcome<R>([&] { return from_settings(Settings{{e.path, v, ""}}, layout); });
@@ -157,7 +147,8 @@ TEST(NodeParameters, ASwitchSetsItsFieldsValueBothWays) {
         automotiveRunOptions(node::settingsFromParameters({{"odometry/fuse_doppler", XmlRpc::XmlRpcValue(on)}}));
     EXPECT_EQ(o.odometry.fuse_doppler, on);
   }
-  EXPECT_FALSE(apps::automotiveOptions(parse({"--format", "nuscenes", "--no-fusion"})).odometry.fuse_doppler);
+  EXPECT_FALSE(apps::automotiveOptions(test::parseOdometryCommandLine({"--format", "nuscenes", "--no-fusion"}))
+                   .odometry.fuse_doppler);
 }
 
 TEST(NodeParameters, ASmallDoubleStaysADouble) {

@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kRoot = std::string(RADAR_NDT_SHARED_DATA) + "/nuscenes-mini-radar";
+const std::string kCanBusRoot = std::string(RADAR_NDT_SHARED_DATA) + "/nuscenes-mini-radar";
 
 void write(const std::string& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
@@ -98,10 +98,11 @@ TEST(NuScenesCanBus, NoFolderIsNothingAndABadFileIsAnErrorNamingIt) {
 }
 
 TEST(NuScenesCanBus, RealFilesCountsUnitsAndTheYawRatesSign) {
-  if (!fs::exists(kRoot + "/can_bus")) GTEST_SKIP() << "no " << kRoot << "/can_bus (../shared/data is absent)";
-  const NuScenesDataset dataset(kRoot);
+  if (!fs::exists(kCanBusRoot + "/can_bus"))
+    GTEST_SKIP() << "no " << kCanBusRoot << "/can_bus (../shared/data is absent)";
+  const NuScenesDataset dataset(kCanBusRoot);
   for (const auto& scene : dataset.scenes()) {
-    const auto s = readNuScenesCanBus(kRoot, scene.name);
+    const auto s = readNuScenesCanBus(kCanBusRoot, scene.name);
     ASSERT_TRUE(s.has_value()) << scene.name;
     const double span = 1e-6 * static_cast<double>(scene.last_timestamp_us - scene.first_timestamp_us);
     // 100 Hz messages over the scene.

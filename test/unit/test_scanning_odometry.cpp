@@ -77,14 +77,14 @@ class RecordingNdt : public WeightedNDT2D<PointRadar, PointRadar> {
 
 /// The scanning radars' nominal grid and power shift (MatcherOptions::forScanning), with the 2x2-neighbour
 /// cell lookup the tests were written with.
-constexpr double kGrid = 3.75;
+constexpr double kScanningGrid = 3.75;
 constexpr float kShift = 0.333f;
 
-/// A matcher at kGrid and kShift, as the scanning pipeline builds pw-ndt but for its cell lookup.
+/// A matcher at kScanningGrid and kShift, as the scanning pipeline builds pw-ndt but for its cell lookup.
 MatcherAdapter scanningMatcher(const std::string& method = "pw-ndt") {
   MatcherOptions o;
   o.method = method;
-  o.grid = kGrid;
+  o.grid = kScanningGrid;
   o.power_shift = kShift;
   return makeMatcher(o);
 }
@@ -102,7 +102,7 @@ std::shared_ptr<RecordingNdt> recordingMatcher() {
 }
 
 MatcherAdapter atNominal(const std::shared_ptr<RecordingNdt>& r) {
-  return MatcherAdapter(r, MatchSettings{kGrid, kShift});
+  return MatcherAdapter(r, MatchSettings{kScanningGrid, kShift});
 }
 
 // A drive down street() with the default options and a RecordingNdt, a scan every 250 ms.
@@ -132,7 +132,7 @@ TEST(ScanningOdometry, EveryMatchRunsWithThePowerShiftOfTheOptions) {
   ASSERT_FALSE(d.matcher->calls.empty());
   for (const auto& c : d.matcher->calls) {
     EXPECT_FLOAT_EQ(c.shift, kShift);
-    EXPECT_FLOAT_EQ(c.grid, kGrid);
+    EXPECT_FLOAT_EQ(c.grid, kScanningGrid);
   }
   const auto& steps = d.odometry.steps();
   for (std::size_t k = 1; k < steps.size(); ++k) {
@@ -151,7 +151,7 @@ TEST(ScanningOdometry, AFailedMatchClimbsTheLadderThenFallsBackToTheConstantVelo
   const ScanningOdometryOptions& o = d.options;
   std::vector<RecordingNdt::Call> ladder;
   for (const float s : {kShift, 0.5f * kShift})
-    for (double g = kGrid;; g += o.grid_step) {
+    for (double g = kScanningGrid;; g += o.grid_step) {
       ladder.push_back({static_cast<float>(g), s});
       if (g > o.max_grid) break;
     }
@@ -175,7 +175,7 @@ TEST(ScanningOdometry, AFailedMatchClimbsTheLadderThenFallsBackToTheConstantVelo
   EXPECT_NEAR(failed.motion.y(), 0.0, 0.05);
   EXPECT_EQ(steps[bad + 1].status, StepStatus::Matched);
   EXPECT_FLOAT_EQ(d.matcher->calls.back().shift, kShift) << "the nominal s again after a halving";
-  EXPECT_FLOAT_EQ(d.matcher->calls.back().grid, kGrid);
+  EXPECT_FLOAT_EQ(d.matcher->calls.back().grid, kScanningGrid);
   EXPECT_NEAR(steps.back().pose.x(), 14.0, 0.3);
 }
 

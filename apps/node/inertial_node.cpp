@@ -1,5 +1,6 @@
 // A 4D radar's 6-DoF odometry as a ROS node (docs/ros.md): the description's reference radar (its
-// mounting from the description) and, with ~imu (the offline --imu), the rig's IMU
+// mounting from the description, else from /tf_static and /tf as the offline reader takes it from
+// the bag: the description's frame, else the one its clouds name) and, with ~imu (the offline --imu), the rig's IMU
 // (sensor_msgs/Imu, turned into the base frame by imu_mounting), run through the offline 6-DoF
 // run's step (InertialStream) in its order: each scan held until an IMU message later than its
 // measurement time has arrived, every IMU message up to that time handed over first. Publishes
@@ -13,17 +14,22 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <tf2_msgs/TFMessage.h>
 #include <topic_tools/shape_shifter.h>
 
 #include "node/node_common.h"
 #include "radar_ndt/odometry/local_map_3d.h"
 #include "radar_ndt/pipeline/inertial_run.h"
+#include "radar_ndt/ros/mounting_tree.h"
 
 namespace radar_ndt {
 namespace node {
 namespace {
 
 /// A scan received and waiting for the IMU.
+/// Scans held at most while the radar waits for its mounting (a minute at 16 Hz).
+constexpr std::size_t kMaxUnplacedScans = 1000;
+
 struct Scan {
   std::int64_t t_us = 0;
   pcl::PointCloud<PointRadar> points;
@@ -42,9 +48,7 @@ class InertialNode : public RadarNode {
  public:
   InertialNode(ros::NodeHandle& nh, ros::NodeHandle& pn, const SensorDescription& d)
       : d_(d), radar_(runningRadar(d)), pub_(nh, pn) {
-    if (!radar_.mounting)
-      throw std::invalid_argument("~sensors: " + d_.source + ": radar " + radar_.name +
-                                  " has no mounting: the 6-DoF node takes it from the description (docs/ros.md)");
+    if (radar_.mounting) mounting_ = radar_.mounting->transform();
     if (d_.radars.size() > 1)
       ROS_WARN_STREAM("radar_ndt_node: the 6-DoF node runs one radar, " << radar_.name << "; " << d_.radars.size() - 1
                                                                         << " left out");
@@ -61,6 +65,11 @@ class InertialNode : public RadarNode {
         radar_.topic, 200, [this](const topic_tools::ShapeShifter::ConstPtr& m) { onAnyCloud(*m); }));
     if (options_.imu)
       subs_.push_back(nh.subscribe<sensor_msgs::Imu>(d_.imu_topic, 4000, [this](const auto& m) { onImu(*m); }));
+    if (!mounting_) {  // whenever it arrives: a latched /tf_static reaches the node at its subscription
+      subs_.push_back(nh.subscribe<tf2_msgs::TFMessage>("/tf", 200, [this](const auto& m) { onTf(*m, "/tf"); }));
+      subs_.push_back(
+          nh.subscribe<tf2_msgs::TFMessage>("/tf_static", 20, [this](const auto& m) { onTf(*m, "/tf_static"); }));
+    }
     diag_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnose(); });
     flush_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) { flushIfQuiet(); });
   }
@@ -68,15 +77,57 @@ class InertialNode : public RadarNode {
   void report() const override {
     std::printf("radar_ndt_node: %zu scans, %zu poses, %zu matched, %zu fallbacks, %zu still\n", scans_, cycles_,
                 matched_, fallbacks_, still_);
-    for (const std::string& p : stream_->odometry().problems()) std::printf("radar_ndt_node: %s\n", p.c_str());
+    if (stream_)
+      for (const std::string& p : stream_->odometry().problems()) std::printf("radar_ndt_node: %s\n", p.c_str());
     timing_.report(cycles_);
+    if (!mounting_ && radar_state_.messages > 0)
+      std::printf("radar_ndt_node: radar %s was never placed: %s; its %zu scans were not run\n", radar_.name.c_str(),
+                  mountingState().c_str(), pending_.size());
   }
 
  private:
+  /// A new stream once the radar is placed; until then the scans wait (the IMU messages with them).
   void restartOdometry() {
-    stream_ = std::make_unique<InertialStream>(options_, radar_.mounting->transform());
+    stream_.reset();
+    if (mounting_) stream_ = std::make_unique<InertialStream>(options_, *mounting_);
     imu_.clear();
     newest_imu_ = -1;
+  }
+
+  /// A /tf or /tf_static message: its transforms join the tree until the radar is placed.
+  void onTf(const tf2_msgs::TFMessage& m, const char* topic) {
+    if (mounting_) return;
+    std::vector<std::string> bad;
+    tree_.add(m, topic, &bad);
+    for (const std::string& b : bad) tf_state_.problem(b);
+    place();
+  }
+
+  /// The radar's mounting from the tree once its frame is known (the description's, else its
+  /// clouds'), as the offline reader takes it; the scans held so far then run.
+  void place() {
+    const std::string& frame = radar_.frame.empty() ? cloud_frame_ : radar_.frame;
+    if (mounting_ || frame.empty()) return;
+    mounting_ = tree_.lookup(d_.base_frame, frame, &unplaced_);
+    if (!mounting_) return;
+    stream_ = std::make_unique<InertialStream>(options_, *mounting_);
+    processReady(false);
+  }
+
+  /// Not placed for long: the oldest scan waiting is dropped (said), and the IMU messages before it,
+  /// so that a radar never placed does not hold the whole recording.
+  void dropOldestUnplaced() {
+    const double t = static_cast<double>(pending_.front().t_us) * 1e-6 - options_.radar_latency;
+    pending_.pop_front();
+    while (!imu_.empty() && imu_.front().t <= t) imu_.pop_front();
+    radar_state_.problem("radar " + radar_.name + " not placed (" + mountingState() +
+                         "): its oldest waiting scan dropped");
+  }
+
+  std::string mountingState() const {
+    if (mounting_) return "known";
+    if (radar_.frame.empty() && cloud_frame_.empty()) return "waiting for a cloud to name its frame";
+    return unplaced_.empty() ? "waiting for /tf_static or /tf" : unplaced_;
   }
 
   /// The stream went back in time (a bag played again) on `from`: the scans held are run, as at
@@ -122,6 +173,10 @@ class InertialNode : public RadarNode {
   template <typename Msg>
   void onCloud(const Msg& msg) {
     const ros::WallTime arrival = ros::WallTime::now();
+    if (cloud_frame_.empty() && !msg.header.frame_id.empty()) {
+      cloud_frame_ = msg.header.frame_id;
+      place();
+    }
     const std::int64_t t = stampOf(d_.stamps, msg.header.stamp);
     if (radar_state_.arrived(t)) restart(radar_state_, t);
     if (last_scan_us_ >= 0 && t <= last_scan_us_) {  // offline, the scans are in stamp order
@@ -133,12 +188,14 @@ class InertialNode : public RadarNode {
     if (!points) return;
     last_scan_us_ = t;
     pending_.push_back(Scan{t, std::move(*points), arrival});
+    if (!stream_ && pending_.size() > kMaxUnplacedScans) dropOldestUnplaced();
     processReady(false);
   }
 
   /// The scans, oldest first, each once an IMU message later than its measurement time has
   /// arrived (when the IMU is fused); `all` runs every one (the stream went quiet).
   void processReady(bool all) {
+    if (!stream_) return;  // the radar is not placed yet
     while (!pending_.empty()) {
       // The scan's measurement time as the offline run computes it.
       const double tm = static_cast<double>(pending_.front().t_us) * 1e-6 - options_.radar_latency;
@@ -192,7 +249,9 @@ class InertialNode : public RadarNode {
   void diagnose() {
     const ros::WallTime newest = std::max(radar_state_.last_arrival, imu_state_.last_arrival);
     std::vector<diagnostic_msgs::DiagnosticStatus> status;
-    status.push_back(radar_state_.status(newest, "silent: no scan for over a second while the IMU sends"));
+    status.push_back(radar_state_.status(newest, "silent: no scan for over a second while the IMU sends",
+                                         {{"mounting", mountingState()}}));
+    if (!tf_state_.last_problem.empty()) status.push_back(tf_state_.status(ros::WallTime(), ""));
     if (options_.imu)
       status.push_back(imu_state_.status(
           newest, "silent: no IMU message for over a second while the radar sends; its scans wait for it"));
@@ -206,7 +265,12 @@ class InertialNode : public RadarNode {
   InertialRunOptions options_;
   double flush_after_ = 0.5;
   std::string odom_frame_;
-  std::unique_ptr<InertialStream> stream_;
+  std::optional<Eigen::Isometry3d> mounting_;  ///< radar -> base: the description's, else the tree's
+  std::string cloud_frame_;                    ///< the clouds' frame, for /tf when the description names none
+  std::string unplaced_;                       ///< why the tree does not place the radar yet
+  ros1::MountingTree tree_;                    ///< /tf_static and /tf until the radar is placed
+  TopicState tf_state_{"/tf", "tf"};
+  std::unique_ptr<InertialStream> stream_;  ///< null until the radar is placed
   TopicState radar_state_, imu_state_;
   std::deque<ImuSample> imu_;  ///< IMU messages not yet handed over, in arrival order
   std::deque<Scan> pending_;   ///< scans waiting for the IMU to pass them

@@ -438,6 +438,86 @@ def test_a_4d_radar_with_its_imu_runs_live_as_offline(ros_env, tmp_path):
     print("rio", out.strip().splitlines()[-1])
 
 
+def tf_message_class():
+    """tf2_msgs/TFMessage from its definition (Debian's ROS has no Python tf2_msgs): the same type and
+    md5 as the C++ message's."""
+    import genpy.dynamic
+    from geometry_msgs.msg import TransformStamped
+    text = ("geometry_msgs/TransformStamped[] transforms\n" + "=" * 80 + "\nMSG: geometry_msgs/TransformStamped\n" +
+            TransformStamped._full_text)
+    return genpy.dynamic.generate_dynamic("tf2_msgs/TFMessage", text)["tf2_msgs/TFMessage"]
+
+
+def rio_placed_by_tf(out, preset):
+    """The rio bag with header stamps (as header_stamped_rio), its clouds naming their frame
+    (ti_radar), and the preset's mounting once on a latched /tf_static at the bag's start, through a
+    mount frame as a rig's URDF gives it: base_link -> ti_mount (the position) -> ti_radar (the
+    rotation, roll pitch yaw about x y z)."""
+    import re
+    import rosbag
+    import rospy
+    from geometry_msgs.msg import TransformStamped
+    m = re.search(r"mounting: \{x: (\S+), y: (\S+), z: (\S+), roll: (\S+), pitch: (\S+), yaw: (\S+)\}", preset)
+    x, y, z, roll, pitch, yaw = (float(v) for v in m.groups())
+    cr, sr, cp, sp, cy, sy = (f(a / 2) for a in (roll, pitch, yaw) for f in (np.cos, np.sin))
+    quaternion = (sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy,
+                  cr * cp * cy + sr * sp * sy)  # x y z w of Rz(yaw) Ry(pitch) Rx(roll)
+    mount, sensor = TransformStamped(), TransformStamped()
+    mount.header.frame_id, mount.child_frame_id = "base_link", "ti_mount"
+    mount.transform.translation.x, mount.transform.translation.y, mount.transform.translation.z = x, y, z
+    mount.transform.rotation.w = 1.0
+    sensor.header.frame_id, sensor.child_frame_id = "ti_mount", "ti_radar"
+    r = sensor.transform.rotation
+    r.x, r.y, r.z, r.w = quaternion
+    TFMessage = tf_message_class()
+    header = {"topic": "/tf_static", "type": TFMessage._type, "md5sum": TFMessage._md5sum,
+              "message_definition": TFMessage._full_text, "callerid": "/robot_state_publisher", "latching": "1"}
+    with rosbag.Bag(str(out), "w") as w, rosbag.Bag(RIO) as b:
+        start = rospy.Time.from_sec(b.get_start_time())
+        mount.header.stamp = sensor.header.stamp = start
+        w.write("/tf_static", TFMessage(transforms=[mount, sensor]), start, connection_header=header)
+        for topic, msg, t in b.read_messages(topics=RIO_TOPICS):
+            msg.header.stamp = t
+            if topic == RIO_TOPICS[0]:
+                msg.header.frame_id = "ti_radar"
+            w.write(topic, msg, t)
+    return str(out)
+
+
+def test_a_4d_radar_placed_by_tf_static_runs_live_as_offline(ros_env, tmp_path):
+    """The rio bag with the radar's mounting on /tf_static only (as `rosbag record` stores a rig's
+    static transforms) and a description without `mounting:`: offline, the bag's tree places the
+    radar where the preset's mounting does; live, the 6-DoF node holds the scans until the tree
+    places the radar, then publishes every pose, equal to the offline run's."""
+    env, work = ros_env
+    if not os.path.exists(RIO):
+        pytest.skip(f"no {RIO} (../shared/data is absent)")
+    with open(os.path.join(PRESETS, "ti_iwr6843_rio.yaml")) as f:
+        preset = f.read().replace("stamps: receive", "stamps: header")
+    bag = rio_placed_by_tf(tmp_path / "rio_tf.bag", preset)
+    described = tmp_path / "rio.yaml"
+    described.write_text(preset)
+    unplaced = tmp_path / "rio_tf.yaml"
+    unplaced.write_text("\n".join(line for line in preset.splitlines() if "mounting:" not in line) + "\n")
+    args = ("--method", "pw-ndt-3d", "--imu", "--radar-latency", "0.125")
+    expected = offline(bag, work, *args, sensors=str(unplaced))
+    by_description = offline(bag, work, *args, sensors=str(described))
+    assert len(expected) == len(by_description) > 400
+    # The same mounting (float64 both ways): the same poses.
+    assert np.abs(expected[:, 1:4] - by_description[:, 1:4]).max() < 1e-9
+    poses, diag, out = run_node(env, work, bag, 10.0, "rio_tf", "_matcher/method:=pw-ndt-3d", "_imu:=true",
+                                "_radar_latency:=0.125", sensors=str(unplaced), topics=RIO_TOPICS + ["/tf_static"],
+                                period=0.1)
+    assert len(poses) == len(expected), f"{len(poses)} poses published, {len(expected)} offline\n{out}"
+    d = np.abs(poses[:, 1:4] - expected[:, 1:4]).max(axis=1)
+    assert d.max() < 1e-6, f"first difference at scan {np.argmax(d > 1e-6)}: {d.max()} m\n{out}"
+    sign = np.sign(np.einsum("ij,ij->i", poses[:, 4:8], expected[:, 4:8]))[:, None]
+    assert np.abs(poses[:, 4:8] - sign * expected[:, 4:8]).max() < 1e-6, out
+    mountings = [v.value for d in diag for s in d.status for v in s.values if v.key == "mounting"]
+    assert mountings and mountings[-1] == "known", mountings
+    print("rio_tf", out.strip().splitlines()[-1])
+
+
 def test_the_launch_file_gives_the_node_its_settings_file(tmp_path):
     """launch/radar_ndt.launch loads a settings file under the node's namespace, keys as its
     parameters (nested or with slashes), each keeping its YAML type."""

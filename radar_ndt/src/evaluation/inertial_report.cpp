@@ -64,6 +64,7 @@ std::string summaryJson(const InertialRunResult& r, const EvaluationReport* metr
   j["method"] = r.method;
   j["imu"] = r.imu;
   j["radar"] = r.radar;
+  if (r.radars > 1) j["radars"] = r.radars;  // a rig of several (one radar: not written)
   j["prior"] = r.prior;
   j["scans"] = r.scans;
   j["scan_period_s"] = r.period_s;
@@ -101,11 +102,21 @@ std::string failureText(const InertialRunResult& r) {
       r.sequence.c_str(), r.fallbacks, r.unreadable, r.scans);
 }
 
+namespace {
+
+/// The radar that ran, or the reference and how many with it.
+std::string radarsText(const InertialRunResult& r) {
+  if (r.radars <= 1) return r.radar;
+  return r.radar + " and " + std::to_string(r.radars - 1) + " more radar" + (r.radars > 2 ? "s" : "");
+}
+
+}  // namespace
+
 std::string summaryText(const InertialRunResult& r) {
   std::string s = format(
       "%s: %zu scans of %s (%.2f Hz), %s%s: %zu poses, %zu matched, %zu fallbacks, %zu still, %zu skipped, %zu "
       "unreadable; %zu problems\n",
-      r.sequence.c_str(), r.scans, r.radar.c_str(), r.period_s > 0 ? 1.0 / r.period_s : 0.0, r.method.c_str(),
+      r.sequence.c_str(), r.scans, radarsText(r).c_str(), r.period_s > 0 ? 1.0 / r.period_s : 0.0, r.method.c_str(),
       r.imu && r.method != "doppler-imu" ? " + IMU" : "", r.estimate.size(), r.matched, r.fallbacks, r.still, r.skipped,
       r.unreadable, r.problems.size());
   s += format("  prior: %s; ms per scan %.2f (match, median %.2f), %.0fx real time (one thread)\n", r.prior.c_str(),

@@ -1,5 +1,6 @@
 #include "radar_ndt/odometry/local_map_3d.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "radar_ndt/registration/detail/point_fields.h"
@@ -15,17 +16,23 @@ LocalMap3D::LocalMap3D(const LocalMap3DOptions& o) : options_(o) {
   options_.validate();
 }
 
-bool LocalMap3D::wantsKeyframe(const Eigen::Isometry3d& pose) const {
-  if (clouds_.empty()) return true;
-  const Eigen::Isometry3d d = last_pose_.inverse() * pose;
+bool LocalMap3D::wantsKeyframe(const Eigen::Isometry3d& pose, std::uint16_t radar) const {
+  const auto last = last_.find(radar);
+  if (last == last_.end()) return true;
+  const Eigen::Isometry3d d = last->second.inverse() * pose;
   const double angle = Eigen::AngleAxisd(d.linear()).angle() * 180.0 / kPi;
   return d.translation().norm() >= options_.distance || angle >= options_.angle_deg;
 }
 
-void LocalMap3D::add(const pcl::PointCloud<PointRadar4D>& scan, const Eigen::Isometry3d& pose) {
+void LocalMap3D::add(const pcl::PointCloud<PointRadar4D>& scan, const Eigen::Isometry3d& pose, std::uint16_t radar) {
   clouds_.push_back(transformRadar4D(scan, pose));
-  while (clouds_.size() > static_cast<std::size_t>(options_.scans)) clouds_.pop_front();
-  last_pose_ = pose;
+  radars_.push_back(radar);
+  if (std::count(radars_.begin(), radars_.end(), radar) > options_.scans) {  // that radar's oldest goes
+    const std::size_t i = std::find(radars_.begin(), radars_.end(), radar) - radars_.begin();
+    clouds_.erase(clouds_.begin() + static_cast<std::ptrdiff_t>(i));
+    radars_.erase(radars_.begin() + static_cast<std::ptrdiff_t>(i));
+  }
+  last_[radar] = pose;
   cache_.reset();
 }
 

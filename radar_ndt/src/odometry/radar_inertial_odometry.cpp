@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
 
 #include "radar_ndt/registration/weighted_ndt_3d.h"
 #include "radar_ndt/se2.h"
@@ -235,27 +236,54 @@ bool RadarInertialOdometry::ready(double stamp, OdometryStep3D& step) {
 }
 
 OdometryStep3D RadarInertialOdometry::addScan(double stamp, const Cloud& scan) {
+  return addScans(stamp, {RadarScan4D{&scan, radar_to_body_, 0}});
+}
+
+Cloud::Ptr RadarInertialOdometry::frontEnd(const std::vector<RadarScan4D>& scans, OdometryStep3D& step,
+                                           std::vector<std::pair<const RadarScan4D*, EgoVelocity3D>>& egos) {
+  Cloud::Ptr source;
+  for (const RadarScan4D& s : scans) {
+    const Cloud in_range = withinRange(*s.scan, options_.min_range, options_.max_range);
+    step.points += in_range.size();
+    std::vector<bool> inlier;
+    const EgoVelocity3D ego = ego_.estimate(in_range, &inlier);
+    const Cloud::Ptr body = staticBodyCloud(in_range, inlier, ego.valid, s.radar_to_body);
+    if (!source)
+      source = body;
+    else
+      *source += *body;
+    if (ego.valid) egos.emplace_back(&s, ego);
+  }
+  step.static_points = source->size();
+  return source;
+}
+
+OdometryStep3D RadarInertialOdometry::addScans(double stamp, const std::vector<RadarScan4D>& scans) {
+  if (scans.empty()) throw std::invalid_argument("RadarInertialOdometry::addScans: no scan");
   OdometryStep3D step;
   step.stamp = stamp;
-  const Cloud in_range = withinRange(scan, options_.min_range, options_.max_range);
-  step.points = in_range.size();
-  std::vector<bool> inlier;
-  const EgoVelocity3D ego = ego_.estimate(in_range, &inlier);
-  const Cloud::Ptr source = staticBodyCloud(in_range, inlier, ego.valid, radar_to_body_);
-  step.static_points = source->size();
-  step.velocity_valid = ego.valid;
+  std::vector<std::pair<const RadarScan4D*, EgoVelocity3D>> egos;  // the valid ones
+  const Cloud::Ptr source = frontEnd(scans, step, egos);
+  step.velocity_valid = !egos.empty();
   if (!ready(stamp, step)) return step;
   const Eigen::Vector3d omega_guess =
       options_.use_imu ? Eigen::Vector3d((imu_.empty() ? last_imu_ : imu_.back()).gyro - filter_.gyroBias())
                        : rotation_rate_;
-  Eigen::Vector3d velocity = ego.valid ? bodyVelocity(radar_to_body_, ego.velocity, omega_guess) : last_velocity_;
-  const Eigen::Matrix3d velocity_cov =
-      ego.valid ? bodyVelocityCovariance(radar_to_body_, ego.covariance) : Eigen::Matrix3d::Identity();
+  Eigen::Vector3d velocity = last_velocity_;
+  Eigen::Matrix3d velocity_cov = Eigen::Matrix3d::Identity();
+  if (!egos.empty()) {
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Matrix3d>> body;
+    for (const auto& [s, ego] : egos)
+      body.emplace_back(bodyVelocity(s->radar_to_body, ego.velocity, omega_guess),
+                        bodyVelocityCovariance(s->radar_to_body, ego.covariance));
+    std::tie(velocity, velocity_cov) = fuseBodyVelocities(body);
+  }
+  const bool valid = !egos.empty();
   // Standing still: the Doppler velocity within its noise of zero (and, radar only, no turn since
   // the last scan; with an IMU the gyro turns the prior whatever the scan says). The rig is taken
   // as not moving (a zero-velocity update, as hand-held inertial navigation makes at each step):
   // the velocity's noise is not integrated and the scan is not matched.
-  step.still = ego.valid && velocity.dot(velocity_cov.ldlt().solve(velocity)) < options_.still_velocity_chi2 &&
+  step.still = valid && velocity.dot(velocity_cov.ldlt().solve(velocity)) < options_.still_velocity_chi2 &&
                (options_.use_imu || rotation_rate_.norm() < options_.still_rate);
   if (step.still) velocity.setZero();
   step.velocity = velocity;
@@ -284,19 +312,19 @@ OdometryStep3D RadarInertialOdometry::addScan(double stamp, const Cloud& scan) {
     if (!options_.use_imu && dt > 0) rotation_rate_ = logSO3(pose_.linear().transpose() * step.pose.linear()) / dt;
   }
   if (options_.use_imu) step.covariance = filter_.poseCovariance();
-  remember(step, velocity_cov, *source);
+  remember(step, velocity_cov, *source, scans.front().radar);
   return step;
 }
 
 void RadarInertialOdometry::remember(const OdometryStep3D& step, const Eigen::Matrix3d& velocity_covariance,
-                                     const Cloud& source) {
+                                     const Cloud& source, std::uint16_t radar) {
   pose_ = step.pose;
   last_velocity_ = step.velocity;
   last_velocity_covariance_ = velocity_covariance;
   last_still_ = step.still;
   last_stamp_ = step.stamp;
-  if (map_.wantsKeyframe(step.pose) && !source.empty()) {
-    map_.add(source, step.pose);
+  if (map_.wantsKeyframe(step.pose, radar) && !source.empty()) {
+    map_.add(source, step.pose, radar);
     ++map_version_;
   }
 }

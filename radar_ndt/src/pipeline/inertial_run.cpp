@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include "radar_ndt/frontend/ego_velocity_3d.h"
@@ -85,13 +86,6 @@ std::string priorOf(const InertialRunOptions& o) {
   return o.imu ? "inertial filter (gyro, Doppler velocity, gravity)" : "last turn rate and Doppler velocity";
 }
 
-/// The sweep of the reference channel in `cycle` (its stamp is the cycle's), or null.
-const RadarSweepData* referenceSweep(const RadarCycle& cycle) {
-  for (const RadarSweepData& s : cycle.sweeps)
-    if (s.timestamp_us == cycle.timestamp_us) return &s;
-  return nullptr;
-}
-
 /// The gyro's last reading at or before `t` (the first one before it; zero without an IMU): what a
 /// live run holds when the scan arrives.
 Eigen::Vector3d gyroAt(const std::vector<ImuSample>& imu, double t) {
@@ -100,8 +94,11 @@ Eigen::Vector3d gyroAt(const std::vector<ImuSample>& imu, double t) {
   return std::prev(it)->gyro;
 }
 
-/// Loads scan k of `cycles` (the reference sweep); false when unreadable (said in `r`).
-bool loadScan(const RadarCycleSource& cycles, std::size_t k, InertialRunResult& r, RadarSweepData& sweep) {
+/// The sweeps of cycle k of `cycles`, every radar's, grouped by their recorded time (time order,
+/// the groups' sweeps in radar order); none when the cycle is unreadable (said in `r`). `radars`
+/// collects the radars met.
+std::vector<std::vector<RadarSweepData>> loadSweeps(const RadarCycleSource& cycles, std::size_t k, InertialRunResult& r,
+                                                    std::set<std::uint16_t>& radars) {
   std::vector<std::string> problems;
   RadarCycle cycle;
   try {
@@ -110,18 +107,28 @@ bool loadScan(const RadarCycleSource& cycles, std::size_t k, InertialRunResult& 
     problems.push_back(e.what());
   }
   for (const std::string& p : problems) r.problems.push_back("scan " + std::to_string(k) + ": " + p);
-  const RadarSweepData* s = referenceSweep(cycle);
-  if (!s) {
+  if (cycle.sweeps.empty()) {
     ++r.unreadable;
-    return false;
+    return {};
   }
-  if (cycle.sweeps.size() > 1 && r.radar.empty())
-    r.problems.push_back("the 6-DoF pipeline runs one radar, " + cycles.referenceChannel() + "; " +
-                         std::to_string(cycle.sweeps.size() - 1) +
-                         " other radar(s) left out (sequence.reference_channel picks it)");
   r.radar = cycles.referenceChannel();
-  sweep = *s;
-  return true;
+  std::stable_sort(cycle.sweeps.begin(), cycle.sweeps.end(), [](const RadarSweepData& a, const RadarSweepData& b) {
+    return a.timestamp_us != b.timestamp_us ? a.timestamp_us < b.timestamp_us : a.sensor_id < b.sensor_id;
+  });
+  std::vector<std::vector<RadarSweepData>> groups;
+  for (RadarSweepData& sweep : cycle.sweeps) {
+    radars.insert(sweep.sensor_id);
+    if (groups.empty() || groups.back().front().timestamp_us != sweep.timestamp_us) groups.emplace_back();
+    groups.back().push_back(std::move(sweep));
+  }
+  return groups;
+}
+
+/// The group's detections in the body frame, each radar's through its mounting.
+pcl::PointCloud<PointRadar4D> bodyDetections(const std::vector<RadarSweepData>& sweeps, const SphericalAccuracy& a) {
+  pcl::PointCloud<PointRadar4D> out;
+  for (const RadarSweepData& s : sweeps) out += transformRadar4D(toRadar4D(s.points, a), s.sensor_to_vehicle);
+  return out;
 }
 
 /// The doppler-imu baseline over the whole recording: each scan's body velocity, then the IMU.
@@ -131,20 +138,29 @@ void runBaseline(const RadarCycleSource& cycles, const std::vector<ImuSample>& i
   std::map<double, std::pair<std::size_t, pcl::PointCloud<PointRadar4D>>> body;  // stamp -> (k, scan)
   const EgoVelocity3DEstimator estimator(o.odometry.ego_velocity);
   std::vector<BodyVelocitySample> velocities;
+  std::set<std::uint16_t> radars;
   std::size_t n = cycles.size();
   if (o.max_cycles) n = std::min(n, o.max_cycles);
   for (std::size_t k = 0; k < n; ++k) {
-    RadarSweepData sweep;
-    if (loadScan(cycles, k, r, sweep)) {
-      const double t = static_cast<double>(sweep.timestamp_us) * 1e-6 - o.radar_latency;
-      const EgoVelocity3D e = estimator.estimate(sweep.points);
-      velocities.push_back({t, bodyVelocity(sweep.sensor_to_vehicle, e.velocity, gyroAt(imu, t)), e.valid});
+    for (const std::vector<RadarSweepData>& group : loadSweeps(cycles, k, r, radars)) {
+      const double t = static_cast<double>(group.front().timestamp_us) * 1e-6 - o.radar_latency;
+      std::vector<std::pair<Eigen::Vector3d, Eigen::Matrix3d>> valid;  // the radars' body velocities
+      BodyVelocitySample sample{t, Eigen::Vector3d::Zero(), false};
+      for (const RadarSweepData& sweep : group) {
+        const EgoVelocity3D e = estimator.estimate(sweep.points);
+        sample.velocity = bodyVelocity(sweep.sensor_to_vehicle, e.velocity, gyroAt(imu, t));
+        if (e.valid) valid.emplace_back(sample.velocity, bodyVelocityCovariance(sweep.sensor_to_vehicle, e.covariance));
+      }
+      sample.valid = !valid.empty();
+      if (group.size() > 1 && sample.valid) sample.velocity = fuseBodyVelocities(valid).first;
+      velocities.push_back(sample);
       ++r.scans;
-      if (on_step) body[t] = {k, transformRadar4D(toRadar4D(sweep.points, o.accuracy), sweep.sensor_to_vehicle)};
+      if (on_step) body[t] = {k, bodyDetections(group, o.accuracy)};
     }
     if (progress) progress(k + 1, n);
   }
   if (velocities.empty()) throw std::invalid_argument(r.sequence + ": no readable scan");
+  r.radars = radars.size();
   DopplerImuResult d = runDopplerImu(imu, velocities, o.doppler_imu);
   r.estimate = d.trajectory;
   r.problems.insert(r.problems.end(), d.problems.begin(), d.problems.end());
@@ -202,6 +218,17 @@ OdometryStep3D InertialStream::addScan(double stamp, const pcl::PointCloud<Point
   return odometry_.addScan(stamp - options_.radar_latency, toRadar4D(points, options_.accuracy));
 }
 
+OdometryStep3D InertialStream::addScans(double stamp, const std::vector<RadarSweepData>& sweeps) {
+  std::vector<pcl::PointCloud<PointRadar4D>> clouds;
+  clouds.reserve(sweeps.size());
+  std::vector<RadarScan4D> scans;
+  for (const RadarSweepData& s : sweeps) {
+    clouds.push_back(toRadar4D(s.points, options_.accuracy));
+    scans.push_back({&clouds.back(), s.sensor_to_vehicle, s.sensor_id});
+  }
+  return odometry_.addScans(stamp - options_.radar_latency, scans);
+}
+
 InertialRunResult runInertialOdometry(const RadarCycleSource& cycles, const std::vector<ImuSample>& imu,
                                       const InertialRunOptions& o,
                                       const std::function<void(std::size_t, std::size_t)>& progress,
@@ -221,28 +248,29 @@ InertialRunResult runInertialOdometry(const RadarCycleSource& cycles, const std:
     runBaseline(cycles, imu, o, progress, on_step, r);
   } else {
     std::unique_ptr<InertialStream> stream;
+    std::set<std::uint16_t> radars;
     std::size_t next_imu = 0;
     std::size_t n = cycles.size();
     if (o.max_cycles) n = std::min(n, o.max_cycles);
     for (std::size_t k = 0; k < n; ++k) {
-      RadarSweepData sweep;
-      if (loadScan(cycles, k, r, sweep)) {
-        if (!stream) stream = std::make_unique<InertialStream>(o, sweep.sensor_to_vehicle);
-        const double stamp = static_cast<double>(sweep.timestamp_us) * 1e-6;
+      for (const std::vector<RadarSweepData>& group : loadSweeps(cycles, k, r, radars)) {
+        if (!stream) stream = std::make_unique<InertialStream>(o, group.front().sensor_to_vehicle);
+        const double stamp = static_cast<double>(group.front().timestamp_us) * 1e-6;
         for (; next_imu < imu.size() && imu[next_imu].t <= stamp - o.radar_latency; ++next_imu)
           stream->addImu(imu[next_imu]);
-        const OdometryStep3D step = stream->addScan(stamp, sweep.points);
+        const OdometryStep3D step = stream->addScans(stamp, group);
         ++r.scans;
         r.steps.push_back(step);
         if (!step.skipped) {
           r.estimate.stamps.push_back(step.stamp);
           r.estimate.poses.push_back(step.pose);
-          if (on_step) on_step(k, step, transformRadar4D(toRadar4D(sweep.points, o.accuracy), sweep.sensor_to_vehicle));
+          if (on_step) on_step(k, step, bodyDetections(group, o.accuracy));
         }
       }
       if (progress) progress(k + 1, n);
     }
     if (!stream) throw std::invalid_argument(r.sequence + ": no readable scan");
+    r.radars = radars.size();
     const std::vector<std::string> p = stream->odometry().problems();
     r.problems.insert(r.problems.end(), p.begin(), p.end());
   }

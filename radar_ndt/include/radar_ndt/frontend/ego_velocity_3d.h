@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -113,6 +114,22 @@ inline Eigen::Vector3d bodyVelocity(const Eigen::Isometry3d& radar_to_body, cons
 /// The covariance of bodyVelocity() (ω taken as exact): R Σ Rᵀ.
 inline Eigen::Matrix3d bodyVelocityCovariance(const Eigen::Isometry3d& radar_to_body, const Eigen::Matrix3d& cov) {
   return radar_to_body.linear() * cov * radar_to_body.linear().transpose();
+}
+
+/// Several radars' body velocities at one time (each with its covariance) as one, weighted by their
+/// information: C = (Σ Cᵢ⁻¹)⁻¹, v = C Σ Cᵢ⁻¹ vᵢ. One is returned as it is; none is not allowed.
+inline std::pair<Eigen::Vector3d, Eigen::Matrix3d> fuseBodyVelocities(
+    const std::vector<std::pair<Eigen::Vector3d, Eigen::Matrix3d>>& velocities) {
+  if (velocities.size() == 1) return velocities.front();
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
+  for (const auto& [v, C] : velocities) {
+    const Eigen::Matrix3d inv = C.inverse();
+    information += inv;
+    weighted += inv * v;
+  }
+  const Eigen::Matrix3d cov = information.inverse();
+  return {cov * weighted, cov};
 }
 
 }  // namespace radar_ndt

@@ -15,8 +15,10 @@
 //     the match is the pose. No accepted match: the prior stands and the step says why.
 // Each part usable alone; doppler_imu.h is the baseline without matching.
 
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -108,6 +110,13 @@ struct OdometryStep3D {
   std::size_t points = 0, static_points = 0;
 };
 
+/// One radar's scan in a step of several (radars measuring at the same time).
+struct RadarScan4D {
+  const pcl::PointCloud<PointRadar4D>* scan = nullptr;  ///< radar frame
+  Eigen::Isometry3d radar_to_body = Eigen::Isometry3d::Identity();
+  std::uint16_t radar = 0;  ///< which radar (its keyframes in the local map are its own)
+};
+
 class RadarInertialOdometry {
  public:
   /// `radar_to_body`: the radar's mounting. Validates `o` (std::invalid_argument).
@@ -124,6 +133,10 @@ class RadarInertialOdometry {
   /// scans before the IMU spans its still start (InertialFilterOptions::initial_seconds) are
   /// skipped (their step has no pose, `skipped` set), as is a scan not later than the last.
   OdometryStep3D addScan(double stamp, const pcl::PointCloud<PointRadar4D>& scan);
+  /// The scans of several radars at `stamp` (one or more, each with its mounting), as one step: each
+  /// radar's Doppler ego-velocity turned into the body's, the valid ones fused by their
+  /// information; their static detections matched together. One scan is addScan's step.
+  OdometryStep3D addScans(double stamp, const std::vector<RadarScan4D>& scans);
 
   const LocalMap3D& map() const { return map_; }
   const InertialFilter& filter() const { return filter_; }
@@ -134,12 +147,16 @@ class RadarInertialOdometry {
   struct Motion;
   Motion priorMotion(double stamp, const Eigen::Vector3d& velocity, const Eigen::Matrix3d& velocity_covariance);
   void match(const pcl::PointCloud<PointRadar4D>::Ptr& source, OdometryStep3D& step);
+  /// Each radar's detections in range, its Doppler ego-velocity (the valid ones into `egos`) and
+  /// its static detections moved into the body frame, all radars' together (counted in `step`).
+  pcl::PointCloud<PointRadar4D>::Ptr frontEnd(const std::vector<RadarScan4D>& scans, OdometryStep3D& step,
+                                              std::vector<std::pair<const RadarScan4D*, EgoVelocity3D>>& egos);
   /// Whether the scan at `stamp` gets a pose: later than the last, the filter started (from the
   /// IMU's still start) when fused. Says why not in `step`.
   bool ready(double stamp, OdometryStep3D& step);
   /// Keeps what the next scan needs of this one; a keyframe joins the local map.
   void remember(const OdometryStep3D& step, const Eigen::Matrix3d& velocity_covariance,
-                const pcl::PointCloud<PointRadar4D>& source);
+                const pcl::PointCloud<PointRadar4D>& source, std::uint16_t radar);
 
   RadarInertialOptions options_;
   Eigen::Isometry3d radar_to_body_;

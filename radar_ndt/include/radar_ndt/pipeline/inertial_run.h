@@ -85,7 +85,8 @@ struct InertialRunResult {
   std::string sequence;  ///< the recording's name
   std::string method = "pw-ndt-3d";
   bool imu = false;
-  std::string radar;  ///< the radar that ran (the reference channel)
+  std::string radar;       ///< the reference channel
+  std::size_t radars = 0;  ///< how many radars ran (their sweeps, each through its mounting)
   double period_s = 0;
   std::string prior;  ///< what each match started from
   Trajectory estimate;
@@ -104,7 +105,7 @@ InertialRunOptions inertialRunDefaults(const SensorDescription& d, const std::st
 /// receding) as PointRadar4D with `accuracy`'s covariance, in the sensor frame.
 pcl::PointCloud<PointRadar4D> toRadar4D(const pcl::PointCloud<PointRadar>& points, const SphericalAccuracy& accuracy);
 
-/// The live side: IMU messages and one radar's scans as they come, in time order; what the ROS
+/// The live side: IMU messages and the radars' scans as they come, in time order; what the ROS
 /// node runs, message by message. Not for doppler-imu (a whole-run smoother: runInertialOdometry).
 class InertialStream {
  public:
@@ -113,6 +114,9 @@ class InertialStream {
   void addImu(const ImuSample& sample);
   /// One scan, its recorded stamp (s; radar_latency is taken off here).
   OdometryStep3D addScan(double stamp, const pcl::PointCloud<PointRadar>& points);
+  /// The sweeps of several radars recorded at one `stamp` (s), each with its mounting
+  /// (`sensor_to_vehicle`) and radar (`sensor_id`), as one step (RadarInertialOdometry::addScans).
+  OdometryStep3D addScans(double stamp, const std::vector<RadarSweepData>& sweeps);
   const RadarInertialOdometry& odometry() const { return odometry_; }
 
  private:
@@ -123,10 +127,11 @@ class InertialStream {
 using InertialStepCallback =
     std::function<void(std::size_t, const OdometryStep3D&, const pcl::PointCloud<PointRadar4D>&)>;
 
-/// Runs `cycles` (one radar's scans are used: the reference channel's; the others are said and
-/// left out) with `imu` (base frame, time-ordered) to the end. Each IMU message is handed over
-/// before the scans after it, as the stream gets them live. `progress(done, total)` after each
-/// scan; `on_step(k, step, scan)` with the scan's static detections in the body frame.
+/// Runs `cycles` with `imu` (base frame, time-ordered) to the end: every radar's sweeps in time
+/// order, each with its mounting, those recorded at one time as one step (one radar: a step a
+/// scan). Each IMU message is handed over before the scans after it, as the stream gets them live.
+/// `progress(done, total)` after each cycle; `on_step(k, step, scan)` (k the cycle) with the step's
+/// detections in the body frame.
 InertialRunResult runInertialOdometry(const RadarCycleSource& cycles, const std::vector<ImuSample>& imu,
                                       const InertialRunOptions& options,
                                       const std::function<void(std::size_t, std::size_t)>& progress = nullptr,

@@ -16,6 +16,7 @@
 #include "radar_ndt/odometry/local_map_3d.h"
 #include "radar_ndt/odometry/radar_inertial_odometry.h"
 #include "radar_ndt/pipeline/inertial_run.h"
+#include "radar_ndt/pipeline/run_settings.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/se3.h"
 #include "radar_ndt/sim/motion_6dof.h"
@@ -437,4 +438,53 @@ TEST(InertialRun, SeveralRadarsRunEachThroughItsMounting) {
   EXPECT_EQ(apart.scans, a.scans.size() + b8.scans.size()) << "each sweep at its own time, a step";
   EXPECT_LT(ateOf(apart, motion), 1.5 * front_alone);
   EXPECT_LT(ateOf(apart, motion), 0.5 * rear_alone);
+}
+
+// Each radar's detections carry its own description's spherical accuracy (the others', the
+// reference's); an accuracy given as a setting is every radar's.
+TEST(InertialRun, EachRadarKeepsItsOwnAccuracy) {
+  SensorDescription d;
+  d.radars.resize(3);
+  d.radars[0].name = "front";
+  d.radars[0].fields.spherical = SphericalSigmas{0.1, 0.5, 1.0};
+  d.radars[1].name = "rear";
+  d.radars[1].fields.spherical = SphericalSigmas{0.4, 2.0, 5.0};
+  d.radars[2].name = "side";  // no accuracy of its own
+  const InertialRunOptions o = inertialRunDefaults(d, "front");
+  EXPECT_EQ(o.accuracyOf(0).range_sigma, 0.1);
+  EXPECT_EQ(o.accuracyOf(1).range_sigma, 0.4);
+  EXPECT_EQ(o.accuracyOf(1).elevation_sigma_deg, 5.0);
+  EXPECT_EQ(o.accuracyOf(2).azimuth_sigma_deg, 0.5);
+  const InertialRunOptions given = inertialRunOptions({{"accuracy.range_sigma", 0.3}}, o);
+  for (std::uint16_t id = 0; id < 3; ++id) EXPECT_EQ(given.accuracyOf(id).range_sigma, 0.3) << id;
+
+  // In a run, the detections handed to the step's callback (body frame) carry their radar's.
+  const sim::Motion6Dof motion(curveDrive(3));
+  const sim::World3D world = sim::worldAlongPath(motion, true, 5);
+  Eigen::Isometry3d front = Eigen::Isometry3d::Identity(), rear = Eigen::Isometry3d::Identity();
+  front.translation() = Eigen::Vector3d(2.0, 0.3, 0.5);
+  rear.translation() = Eigen::Vector3d(-1.0, -0.3, 0.6);
+  rear.linear() = Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const sim::Imu6Options imu = sim::imu6Preset("mems");
+  const sim::Radar4DModel model = sim::radar4DPreset("ars548");
+  const sim::Radar4DSequence a = sim::simulateRadar4DSequence(motion, world, model, 10, imu, 5, front);
+  const sim::Radar4DSequence b = sim::simulateRadar4DSequence(motion, world, model, 10, imu, 6, rear);
+  const Eigen::Isometry3d mounts[2] = {front, rear};
+  std::size_t checked[2] = {0, 0};
+  runInertialOdometry(
+      TwoRadars(a, front, b, rear), a.imu, o, nullptr,
+      [&](std::size_t, const OdometryStep3D&, const pcl::PointCloud<PointRadar4D>& body) {
+        for (const PointRadar4D& p : body) {
+          const Eigen::Isometry3d& m = mounts[p.sensor_id];
+          const Eigen::Matrix3d R = m.linear();
+          const Eigen::Matrix3d want =
+              R * sphericalCovariance(m.inverse() * p.getVector3fMap().cast<double>(), o.accuracyOf(p.sensor_id)) *
+              R.transpose();
+          EXPECT_NEAR(p.cov_zz, want(2, 2), 1e-4 * want(2, 2) + 1e-6);
+          EXPECT_NEAR(p.cov_xy, want(0, 1), 1e-4 * std::abs(want(0, 1)) + 1e-6);
+          ++checked[p.sensor_id];
+        }
+      });
+  EXPECT_GT(checked[0], 100u);
+  EXPECT_GT(checked[1], 100u);
 }

@@ -48,11 +48,16 @@ void InertialRunOptions::validate() const {
 
 InertialRunOptions inertialRunDefaults(const SensorDescription& d, const std::string& radar) {
   InertialRunOptions o;
-  for (const RadarDescription& r : d.radars)
-    if (r.name == radar && r.fields.spherical) {
-      const SphericalSigmas& a = *r.fields.spherical;
-      o.accuracy = {a.range, a.azimuth_deg, a.elevation_deg};
-    }
+  for (std::size_t i = 0; i < d.radars.size(); ++i) {
+    const RadarDescription& r = d.radars[i];
+    if (!r.fields.spherical) continue;
+    const SphericalSigmas& a = *r.fields.spherical;
+    const SphericalAccuracy accuracy{a.range, a.azimuth_deg, a.elevation_deg};
+    if (r.name == radar)
+      o.accuracy = accuracy;
+    else
+      o.radar_accuracy[static_cast<std::uint16_t>(i)] = accuracy;
+  }
   return o;
 }
 
@@ -124,10 +129,11 @@ std::vector<std::vector<RadarSweepData>> loadSweeps(const RadarCycleSource& cycl
   return groups;
 }
 
-/// The group's detections in the body frame, each radar's through its mounting.
-pcl::PointCloud<PointRadar4D> bodyDetections(const std::vector<RadarSweepData>& sweeps, const SphericalAccuracy& a) {
+/// The group's detections in the body frame, each radar's through its mounting, with its accuracy.
+pcl::PointCloud<PointRadar4D> bodyDetections(const std::vector<RadarSweepData>& sweeps, const InertialRunOptions& o) {
   pcl::PointCloud<PointRadar4D> out;
-  for (const RadarSweepData& s : sweeps) out += transformRadar4D(toRadar4D(s.points, a), s.sensor_to_vehicle);
+  for (const RadarSweepData& s : sweeps)
+    out += transformRadar4D(toRadar4D(s.points, o.accuracyOf(s.sensor_id)), s.sensor_to_vehicle);
   return out;
 }
 
@@ -155,7 +161,7 @@ void runBaseline(const RadarCycleSource& cycles, const std::vector<ImuSample>& i
       if (group.size() > 1 && sample.valid) sample.velocity = fuseBodyVelocities(valid).first;
       velocities.push_back(sample);
       ++r.scans;
-      if (on_step) body[t] = {k, bodyDetections(group, o.accuracy)};
+      if (on_step) body[t] = {k, bodyDetections(group, o)};
     }
     if (progress) progress(k + 1, n);
   }
@@ -223,7 +229,7 @@ OdometryStep3D InertialStream::addScans(double stamp, const std::vector<RadarSwe
   clouds.reserve(sweeps.size());
   std::vector<RadarScan4D> scans;
   for (const RadarSweepData& s : sweeps) {
-    clouds.push_back(toRadar4D(s.points, options_.accuracy));
+    clouds.push_back(toRadar4D(s.points, options_.accuracyOf(s.sensor_id)));
     scans.push_back({&clouds.back(), s.sensor_to_vehicle, s.sensor_id});
   }
   return odometry_.addScans(stamp - options_.radar_latency, scans);
@@ -264,7 +270,7 @@ InertialRunResult runInertialOdometry(const RadarCycleSource& cycles, const std:
         if (!step.skipped) {
           r.estimate.stamps.push_back(step.stamp);
           r.estimate.poses.push_back(step.pose);
-          if (on_step) on_step(k, step, bodyDetections(group, o.accuracy));
+          if (on_step) on_step(k, step, bodyDetections(group, o));
         }
       }
       if (progress) progress(k + 1, n);

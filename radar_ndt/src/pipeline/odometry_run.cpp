@@ -98,7 +98,7 @@ void openRecording(OdometryRun::Impl& r, const Settings& given) {
     r.name = r.recording.scans->name();
     return;
   }
-  if (asksInertial(given)) {  // a 4D radar's 6-DoF run: one radar, the rig's IMU
+  if (asksInertial(given)) {  // a 4D radar's 6-DoF run: the rig's radars and its IMU
     r.kind = PipelineKind::Inertial;
     inertialRunOptions(given);  // a bad setting is said before the recording is read
     r.recording = readRecording("rosbag", r.source.path, d);

@@ -76,7 +76,10 @@ ScanningRunOptions scanningRunOptions(const Settings& given, const std::string& 
 
 InertialRunOptions inertialRunOptions(const Settings& given, const InertialRunOptions& defaults) {
   InertialRunOptions o = defaults;
-  for (const Setting& s : given) apply<InertialRunOptions, AutomotiveRunOptions>(o, s, "6-DoF", "automotive", "");
+  for (const Setting& s : given) {
+    apply<InertialRunOptions, AutomotiveRunOptions>(o, s, "6-DoF", "automotive", "");
+    if (s.path.compare(0, 9, "accuracy.") == 0) o.radar_accuracy.clear();  // a given accuracy is every radar's
+  }
   o.validate();
   return o;
 }

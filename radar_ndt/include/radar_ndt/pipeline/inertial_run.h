@@ -7,7 +7,9 @@
 //
 //   const InertialRunResult r = runInertialOdometry(cycles, imu, inertialRunOptions({{"imu", true}}));
 
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -54,7 +56,17 @@ struct InertialRunOptions {
   /// scan's stamp before either method.
   double radar_latency = 0.0;
   /// Each detection's 1σ in range, azimuth and elevation: its covariance (point_covariance.h).
+  /// The reference radar's, and every radar's without one of its own below.
   SphericalAccuracy accuracy;
+  /// The other radars' own accuracies, by sensor id (the description's radar index): their
+  /// descriptions' spherical_accuracy (inertialRunDefaults). An accuracy given as a setting is every
+  /// radar's (inertialRunOptions empties this). Not a setting itself: the description says it.
+  std::map<std::uint16_t, SphericalAccuracy> radar_accuracy;
+  /// The accuracy of radar `sensor_id`'s detections.
+  const SphericalAccuracy& accuracyOf(std::uint16_t sensor_id) const {
+    const auto it = radar_accuracy.find(sensor_id);
+    return it == radar_accuracy.end() ? accuracy : it->second;
+  }
   RadarInertialOptions odometry;
   DopplerImuOptions doppler_imu;
   std::size_t max_cycles = 0;  ///< 0: all
@@ -97,8 +109,9 @@ struct InertialRunResult {
   double seconds = 0;  ///< wall time of the run
 };
 
-/// The defaults of a 6-DoF run of `radar` (its name) in `d`: each detection's accuracy its
-/// description's spherical_accuracy where it has one; the settings given go over them.
+/// The defaults of a 6-DoF run whose reference radar is `radar` (its name) in `d`: each radar's
+/// detections take its description's spherical_accuracy where it has one (the reference's as
+/// `accuracy`, the others' in `radar_accuracy`); the settings given go over them.
 InertialRunOptions inertialRunDefaults(const SensorDescription& d, const std::string& radar);
 
 /// A 4D radar's detections (PointRadar as a recording reads them: sensor frame, Doppler positive

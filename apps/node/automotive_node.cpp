@@ -1,5 +1,5 @@
 // The automotive radar odometry as a ROS node (docs/ros.md): subscribes to the radar topics of a
-// sensor description, assembles cycles as they arrive (LiveCycles, the offline planner's
+// sensor description, assembles cycles as they arrive (RadarChannels: the offline planner's
 // rule), runs the front-end and the odometry the offline run uses. With ~odometry/car/gyro (the
 // offline --imu) it fuses the description's IMU topic's yaw rate, with ~odometry/car/wheels (the
 // offline --wheels) its speed topic's speed (geometry_msgs/TwistStamped or nav_msgs/Odometry), each
@@ -13,20 +13,15 @@
 #include <geometry_msgs/TwistStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/Imu.h>
-#include <sensor_msgs/PointCloud.h>
-#include <sensor_msgs/PointCloud2.h>
-#include <tf2_msgs/TFMessage.h>
 #include <topic_tools/shape_shifter.h>
 
 #include "node/node_common.h"
+#include "node/radar_channels.h"
 #include "radar_ndt/evaluation/point_map.h"
 #include "radar_ndt/evaluation/run_report.h"
-#include "radar_ndt/io/live_cycles.h"
 #include "radar_ndt/io/live_vehicle_signals.h"
 #include "radar_ndt/pipeline/automotive_run.h"
 #include "radar_ndt/pipeline/odometry_run.h"
-#include "radar_ndt/ros/mounting_tree.h"
-#include "radar_ndt/ros/point_cloud2.h"
 
 namespace radar_ndt {
 namespace node {
@@ -57,25 +52,20 @@ class AutomotiveNode : public RadarNode {
     imu_ = TopicState(d_.imu_topic, "imu", "not a number");
     speed_ = TopicState(d_.speed_topic, "speed", "not a speed");
     resetOdometry();
-    for (std::size_t i = 0; i < d_.radars.size(); ++i) {
-      const RadarDescription& r = d_.radars[i];
-      channels_.emplace_back();
-      channels_.back().state = TopicState(r.topic, r.name);
-      if (r.mounting) channels_.back().mounting = r.mounting->transform();
-      // Either point-cloud message, told by each message's type (as the bag reader takes both).
-      subs_.push_back(nh.subscribe<topic_tools::ShapeShifter>(
-          r.topic, 200, [this, i](const topic_tools::ShapeShifter::ConstPtr& m) { onAnyCloud(i, *m); }));
-    }
+    RadarChannels::Handlers on;
+    on.restart = [this](TopicState& from, std::int64_t t) { restart(from.last_problem, from, t); };
+    on.stamped = [this](std::int64_t t, ros::WallTime arrival) {
+      stream_us_ = std::max(stream_us_, t);
+      arrival_.emplace(t, arrival);
+    };
+    on.ready = [this] { drain(); };
+    radars_ = std::make_unique<RadarChannels>(d_, period_us_, std::move(on));
+    radars_->subscribe(nh, subs_);
     if (use_gyro_)
       subs_.push_back(nh.subscribe<sensor_msgs::Imu>(d_.imu_topic, 2000, [this](const auto& m) { onImu(*m); }));
     if (use_speed_)  // either of two message types, told by each message's type
       subs_.push_back(
           nh.subscribe<topic_tools::ShapeShifter>(d_.speed_topic, 2000, [this](const auto& m) { onSpeed(*m); }));
-    // The mountings: whenever they arrive (a latched /tf_static reaches the node once, at its
-    // subscription, usually before any cloud names its frame).
-    subs_.push_back(nh.subscribe<tf2_msgs::TFMessage>("/tf", 200, [this](const auto& m) { onTf(*m, "/tf"); }));
-    subs_.push_back(
-        nh.subscribe<tf2_msgs::TFMessage>("/tf_static", 20, [this](const auto& m) { onTf(*m, "/tf_static"); }));
     diag_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnose(); });
     flush_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) { flushIfQuiet(); });
   }
@@ -83,23 +73,10 @@ class AutomotiveNode : public RadarNode {
   void report() const override {
     std::printf("%s", summaryText(stream_->result()).c_str());  // as radar_odometry prints a run's
     timing_.report(cycles_);
-    for (std::size_t i = 0; i < channels_.size(); ++i)
-      if (channels_[i].state.messages == 0)
-        std::printf("radar_ndt_node: radar %s sent nothing on %s\n", d_.radars[i].name.c_str(),
-                    d_.radars[i].topic.c_str());
-      else if (!channels_[i].mounting)
-        std::printf("radar_ndt_node: radar %s was never placed: %s\n", d_.radars[i].name.c_str(),
-                    channels_[i].unplaced.empty() ? "no transform arrived" : channels_[i].unplaced.c_str());
+    radars_->report();
   }
 
  private:
-  struct Channel {
-    TopicState state;
-    std::optional<Eigen::Isometry3d> mounting;
-    std::string frame;     ///< the clouds' frame, for /tf when the description names none
-    std::string unplaced;  ///< why the mounting is not known yet (the tree's answer)
-  };
-
   void resetOdometry() {
     stream_ = std::make_unique<AutomotiveStream>(options_, usesCar() ? car_.signals() : nullptr, "radar_ndt_node");
   }
@@ -109,9 +86,7 @@ class AutomotiveNode : public RadarNode {
   void restart(const std::string& why, TopicState& from, std::int64_t t) {
     ROS_WARN_STREAM("radar_ndt_node: " << why << ": the odometry starts again");
     finishStream();  // empties pending_
-    live_.reset();
-    waiting_.clear();
-    for (auto& c : channels_) c.state.last_us = -1;
+    radars_->reset();
     imu_.last_us = speed_.last_us = -1;
     stream_us_ = -1;
     car_.reset();
@@ -155,102 +130,8 @@ class AutomotiveNode : public RadarNode {
     }
   }
 
-  std::optional<std::uint16_t> reference() {
-    if (live_) return reference_;
-    std::map<std::uint16_t, SensorMounting> m;
-    std::vector<std::string> names;
-    for (std::size_t i = 0; i < d_.radars.size(); ++i) {
-      names.push_back(d_.radars[i].name);
-      if (!channels_[i].mounting) return std::nullopt;  // decided once every radar is placed
-      m[static_cast<std::uint16_t>(i)] = toMounting(*channels_[i].mounting);
-    }
-    reference_ = chooseReferenceChannel(m, names, d_.reference, "the node's radars");
-    std::vector<std::uint16_t> all;
-    for (std::size_t i = 0; i < d_.radars.size(); ++i) all.push_back(static_cast<std::uint16_t>(i));
-    live_ = std::make_unique<LiveCycles>(reference_, period_us_, all);
-    for (auto& s : waiting_) live_->add(std::move(s));
-    waiting_.clear();
-    return reference_;
-  }
-
-  /// A /tf or /tf_static message: its transforms join the tree until every radar is placed.
-  void onTf(const tf2_msgs::TFMessage& m, const char* topic) {
-    if (allPlaced()) return;
-    std::vector<std::string> bad;
-    tree_.add(m, topic, &bad);
-    for (const std::string& b : bad) tf_state_.problem(b);
-    placeRadars();
-    drain();
-  }
-
-  bool allPlaced() const {
-    return std::all_of(channels_.begin(), channels_.end(), [](const Channel& c) { return c.mounting.has_value(); });
-  }
-
-  /// Each radar not yet placed whose frame is known (the description's, else its clouds'): its
-  /// mounting from the tree, as the offline reader takes it.
-  void placeRadars() {
-    for (std::size_t i = 0; i < d_.radars.size(); ++i) {
-      Channel& c = channels_[i];
-      const std::string& frame = d_.radars[i].frame.empty() ? c.frame : d_.radars[i].frame;
-      if (c.mounting || frame.empty()) continue;
-      c.mounting = tree_.lookup(d_.base_frame, frame, &c.unplaced);
-    }
-  }
-
-  /// The cloud's points as the description names its fields; nullopt (counted and said) when it
-  /// is malformed.
-  /// Msg: sensor_msgs/PointCloud2, or the first PointCloud (NTU4DRadLM's Eagle).
-  template <typename Msg>
-  std::optional<RadarSweepData> sweepOf(std::size_t i, const Msg& msg, std::int64_t t) {
-    RadarSweepData sweep;
-    sweep.timestamp_us = t;
-    sweep.sensor_id = static_cast<std::uint16_t>(i);
-    std::optional<pcl::PointCloud<PointRadar>> points =
-        cloudPoints(d_.radars[i], sweep.sensor_id, msg, channels_[i].state);
-    if (!points) return std::nullopt;
-    sweep.points = std::move(*points);
-    return sweep;
-  }
-
-  void onAnyCloud(std::size_t i, const topic_tools::ShapeShifter& msg) {
-    const std::string& type = msg.getDataType();
-    if (type == "sensor_msgs/PointCloud2") return onCloud(i, *msg.instantiate<sensor_msgs::PointCloud2>());
-    if (type == "sensor_msgs/PointCloud") return onCloud(i, *msg.instantiate<sensor_msgs::PointCloud>());
-    TopicState& c = channels_[i].state;
-    ++c.malformed;
-    c.problem(d_.radars[i].topic + ": a " + type +
-              ": radar clouds are read from sensor_msgs/PointCloud2 or sensor_msgs/PointCloud: left out");
-  }
-
-  template <typename Msg>
-  void onCloud(std::size_t i, const Msg& msg) {
-    const ros::WallTime arrival = ros::WallTime::now();
-    Channel& c = channels_[i];
-    if (c.frame.empty() && !msg.header.frame_id.empty()) {
-      c.frame = msg.header.frame_id;
-      placeRadars();
-    }
-    const std::int64_t t = stampOf(d_.stamps, msg.header.stamp);
-    if (c.state.arrived(t)) restart(c.state.last_problem, c.state, t);  // a bag played again
-    stream_us_ = std::max(stream_us_, t);
-    std::optional<RadarSweepData> sweep = sweepOf(i, msg, t);
-    if (!sweep) return;
-    arrival_.emplace(t, arrival);
-    if (!reference()) {
-      waiting_.push_back(std::move(*sweep));
-      return;
-    }
-    if (live_->add(std::move(*sweep)) == LiveCycles::Added::Late) {
-      ++c.state.late;
-      c.state.problem(d_.radars[i].topic + ": a sweep older than the last cycle arrived late: left out");
-    }
-    drain();
-  }
-
   void drain() {
-    if (!reference()) return;
-    while (auto cycle = live_->next()) pending_.push_back(std::move(*cycle));
+    while (auto cycle = radars_->next()) pending_.push_back(std::move(*cycle));
     processReady();
   }
 
@@ -265,9 +146,7 @@ class AutomotiveNode : public RadarNode {
   }
 
   void flushIfQuiet() {
-    if (!live_) return;
-    ros::WallTime last;
-    for (const auto& c : channels_) last = std::max(last, c.state.last_arrival);
+    const ros::WallTime last = radars_->lastArrival();
     if (last.isZero() || (ros::WallTime::now() - last).toSec() < flush_after_) return;
     finishStream();
   }
@@ -275,8 +154,7 @@ class AutomotiveNode : public RadarNode {
   /// The stream ended (quiet, or played again): every cycle still held is run, complete or not and
   /// whether or not the car's signals reached it, as the offline run ends at the bag's end.
   void finishStream() {
-    if (live_)
-      for (RadarCycle& cycle : live_->flush()) pending_.push_back(std::move(cycle));
+    for (RadarCycle& cycle : radars_->flush()) pending_.push_back(std::move(cycle));
     for (RadarCycle& cycle : pending_) process(cycle);
     pending_.clear();
   }
@@ -285,7 +163,6 @@ class AutomotiveNode : public RadarNode {
   void process(RadarCycle& cycle) {
     const double cpu0 = cpuSeconds();
     const std::int64_t t = cycle.timestamp_us;
-    for (RadarSweepData& s : cycle.sweeps) s.sensor_to_vehicle = *channels_[s.sensor_id].mounting;
     const AutomotiveStream::Added a = stream_->add(std::move(cycle));
     for (const std::string& p : a.problems) ROS_WARN_STREAM_THROTTLE(1.0, "radar_ndt_node: " << p);
     const OdometryStep& step = a.step;
@@ -304,23 +181,8 @@ class AutomotiveNode : public RadarNode {
   }
 
   void diagnose() {
-    ros::WallTime newest;
-    for (const auto& c : channels_) newest = std::max(newest, c.state.last_arrival);
-    std::vector<diagnostic_msgs::DiagnosticStatus> status;
-    for (std::size_t i = 0; i < channels_.size(); ++i) {
-      const Channel& c = channels_[i];
-      const bool named = !d_.radars[i].frame.empty() || !c.frame.empty();
-      const std::string mounting = c.mounting           ? "known"
-                                   : !named             ? "waiting for a cloud to name its frame"
-                                   : c.unplaced.empty() ? "waiting for /tf_static or /tf"
-                                                        : c.unplaced;
-      status.push_back(c.state.status(newest,
-                                      c.state.messages == 0
-                                          ? "no cloud yet on " + c.state.topic + " while the other radars send"
-                                          : "silent: no cloud for over a second while the other radars send",
-                                      {{"mounting", mounting}}));
-    }
-    if (!tf_state_.last_problem.empty()) status.push_back(tf_state_.status(ros::WallTime(), ""));
+    const ros::WallTime newest = radars_->lastArrival();
+    std::vector<diagnostic_msgs::DiagnosticStatus> status = radars_->status(newest);
     if (use_gyro_)
       status.push_back(imu_.status(
           newest, "silent: no IMU message for over a second while the radars send; the last yaw rate is held"));
@@ -338,9 +200,7 @@ class AutomotiveNode : public RadarNode {
   double flush_after_ = 0.5;
   std::string odom_frame_;
   std::unique_ptr<AutomotiveStream> stream_;  ///< the offline run's step, a cycle at a time
-  std::vector<Channel> channels_;
-  ros1::MountingTree tree_;  ///< /tf_static and /tf until every radar is placed
-  TopicState tf_state_{"/tf", "tf"};
+  std::unique_ptr<RadarChannels> radars_;     ///< the radars' topics, mountings and cycles
   TopicState imu_;    ///< the IMU topic's counters (its mounting unused: only the yaw rate is fused)
   TopicState speed_;  ///< the speed topic's
   bool use_gyro_ = false, use_speed_ = false;
@@ -348,9 +208,6 @@ class AutomotiveNode : public RadarNode {
   LiveVehicleSignals car_;
   std::int64_t stream_us_ = -1;     ///< the newest message time seen, on the radars' clock
   std::deque<RadarCycle> pending_;  ///< complete cycles waiting for the car's signals
-  std::uint16_t reference_ = 0;
-  std::unique_ptr<LiveCycles> live_;
-  std::vector<RadarSweepData> waiting_;
   std::map<std::int64_t, ros::WallTime> arrival_;
   CycleTiming timing_;
   std::size_t cycles_ = 0;

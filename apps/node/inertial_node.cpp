@@ -1,75 +1,55 @@
-// A 4D radar's 6-DoF odometry as a ROS node (docs/ros.md): the description's reference radar (its
-// mounting from the description, else from /tf_static and /tf as the offline reader takes it from
-// the bag: the description's frame, else the one its clouds name) and, with ~imu (the offline --imu), the rig's IMU
-// (sensor_msgs/Imu, turned into the base frame by imu_mounting), run through the offline 6-DoF
-// run's step (InertialStream) in its order: each scan held until an IMU message later than its
-// measurement time has arrived, every IMU message up to that time handed over first. Publishes
-// ~odometry (nav_msgs/Odometry with z, the full rotation and the 6x6 covariance), TF odom ->
-// base_link, ~local_map (the keyframes the next scan is matched against, in base_link) and
-// /diagnostics.
+// A 4D radar rig's 6-DoF odometry as a ROS node (docs/ros.md): the description's radars (each
+// placed by its mounting in the description, else from /tf_static and /tf as the offline reader
+// takes it from the bag: RadarChannels), their sweeps planned into cycles and grouped by time as
+// the offline run groups them, and, with ~imu (the offline --imu), the rig's IMU (sensor_msgs/Imu,
+// turned into the base frame by imu_mounting), run through the offline 6-DoF run's step
+// (InertialStream) in its order: each step held until an IMU message later than its measurement
+// time has arrived, every IMU message up to that time handed over first. Publishes ~odometry
+// (nav_msgs/Odometry with z, the full rotation and the 6x6 covariance), TF odom -> base_link,
+// ~local_map (the keyframes the next scan is matched against, in base_link) and /diagnostics.
 #include <algorithm>
 #include <cstdio>
 #include <deque>
+#include <map>
 
 #include <sensor_msgs/Imu.h>
-#include <sensor_msgs/PointCloud.h>
-#include <sensor_msgs/PointCloud2.h>
-#include <tf2_msgs/TFMessage.h>
-#include <topic_tools/shape_shifter.h>
 
 #include "node/node_common.h"
+#include "node/radar_channels.h"
 #include "radar_ndt/odometry/local_map_3d.h"
 #include "radar_ndt/pipeline/inertial_run.h"
-#include "radar_ndt/ros/mounting_tree.h"
 
 namespace radar_ndt {
 namespace node {
 namespace {
 
-/// A scan received and waiting for the IMU.
-/// Scans held at most while the radar waits for its mounting (a minute at 16 Hz).
-constexpr std::size_t kMaxUnplacedScans = 1000;
-
-struct Scan {
-  std::int64_t t_us = 0;
-  pcl::PointCloud<PointRadar> points;
-  ros::WallTime arrival;
-};
-
-/// The radar the 6-DoF node runs: the description's reference, else its first.
-const RadarDescription& runningRadar(const SensorDescription& d) {
-  for (const RadarDescription& r : d.radars)
-    if (r.name == d.reference) return r;
-  if (d.radars.empty()) throw std::invalid_argument("~sensors: " + d.source + " describes no radar");
-  return d.radars.front();
-}
-
 class InertialNode : public RadarNode {
  public:
-  InertialNode(ros::NodeHandle& nh, ros::NodeHandle& pn, const SensorDescription& d)
-      : d_(d), radar_(runningRadar(d)), pub_(nh, pn) {
-    if (radar_.mounting) mounting_ = radar_.mounting->transform();
-    if (d_.radars.size() > 1)
-      ROS_WARN_STREAM("radar_ndt_node: the 6-DoF node runs one radar, " << radar_.name << "; " << d_.radars.size() - 1
-                                                                        << " left out");
-    options_ = inertialRunOptions(nodeSettings(pn), inertialRunDefaults(d_, radar_.name));
+  InertialNode(ros::NodeHandle& nh, ros::NodeHandle& pn, const SensorDescription& d) : d_(d), pub_(nh, pn) {
+    if (d_.radars.empty()) throw std::invalid_argument("~sensors: " + d_.source + " describes no radar");
+    given_ = nodeSettings(pn);
+    options_ = inertialRunOptions(given_, inertialRunDefaults(d_, d_.radars.front().name));  // said now if bad
     if (options_.matcher.method == "doppler-imu")
       throw std::invalid_argument("~matcher/method doppler-imu smooths a whole recording: radar_odometry runs it");
     if (options_.imu && d_.imu_topic.empty()) throw std::invalid_argument("~imu: " + d_.source + " names no imu topic");
+    double period = 0;
+    pn.param("cycle_period", period, 0.0);
     pn.param("flush_after", flush_after_, 0.5);
     pn.param<std::string>("odom_frame", odom_frame_, "odom");
-    radar_state_ = TopicState(radar_.topic, radar_.name);
     imu_state_ = TopicState(d_.imu_topic, "imu", "not finite");
     restartOdometry();
-    subs_.push_back(nh.subscribe<topic_tools::ShapeShifter>(
-        radar_.topic, 200, [this](const topic_tools::ShapeShifter::ConstPtr& m) { onAnyCloud(*m); }));
+    RadarChannels::Handlers on;
+    on.restart = [this](TopicState& from, std::int64_t t) { restart(from, t); };
+    on.stamped = [this](std::int64_t t, ros::WallTime arrival) { arrival_.emplace(t, arrival); };
+    on.ready = [this] { drain(); };
+    on.dropped = [this](std::int64_t t_us) {  // a radar never placed: the IMU before its dropped sweep goes too
+      const double t = static_cast<double>(t_us) * 1e-6 - options_.radar_latency;
+      while (!imu_.empty() && imu_.front().t <= t) imu_.pop_front();
+    };
+    radars_ = std::make_unique<RadarChannels>(d_, static_cast<std::int64_t>(period * 1e6 + 0.5), std::move(on));
+    radars_->subscribe(nh, subs_);
     if (options_.imu)
       subs_.push_back(nh.subscribe<sensor_msgs::Imu>(d_.imu_topic, 4000, [this](const auto& m) { onImu(*m); }));
-    if (!mounting_) {  // whenever it arrives: a latched /tf_static reaches the node at its subscription
-      subs_.push_back(nh.subscribe<tf2_msgs::TFMessage>("/tf", 200, [this](const auto& m) { onTf(*m, "/tf"); }));
-      subs_.push_back(
-          nh.subscribe<tf2_msgs::TFMessage>("/tf_static", 20, [this](const auto& m) { onTf(*m, "/tf_static"); }));
-    }
     diag_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnose(); });
     flush_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) { flushIfQuiet(); });
   }
@@ -77,66 +57,26 @@ class InertialNode : public RadarNode {
   void report() const override {
     std::printf("radar_ndt_node: %zu scans, %zu poses, %zu matched, %zu fallbacks, %zu still\n", scans_, cycles_,
                 matched_, fallbacks_, still_);
-    if (stream_)
-      for (const std::string& p : stream_->odometry().problems()) std::printf("radar_ndt_node: %s\n", p.c_str());
+    for (const std::string& p : stream_->odometry().problems()) std::printf("radar_ndt_node: %s\n", p.c_str());
     timing_.report(cycles_);
-    if (!mounting_ && radar_state_.messages > 0)
-      std::printf("radar_ndt_node: radar %s was never placed: %s; its %zu scans were not run\n", radar_.name.c_str(),
-                  mountingState().c_str(), pending_.size());
+    radars_->report();
   }
 
  private:
-  /// A new stream once the radar is placed; until then the scans wait (the IMU messages with them).
+  /// A new stream (no mounting of its own: each step's sweeps carry theirs, InertialStream::addScans).
   void restartOdometry() {
-    stream_.reset();
-    if (mounting_) stream_ = std::make_unique<InertialStream>(options_, *mounting_);
+    stream_ = std::make_unique<InertialStream>(options_, Eigen::Isometry3d::Identity());
     imu_.clear();
     newest_imu_ = -1;
   }
 
-  /// A /tf or /tf_static message: its transforms join the tree until the radar is placed.
-  void onTf(const tf2_msgs::TFMessage& m, const char* topic) {
-    if (mounting_) return;
-    std::vector<std::string> bad;
-    tree_.add(m, topic, &bad);
-    for (const std::string& b : bad) tf_state_.problem(b);
-    place();
-  }
-
-  /// The radar's mounting from the tree once its frame is known (the description's, else its
-  /// clouds'), as the offline reader takes it; the scans held so far then run.
-  void place() {
-    const std::string& frame = radar_.frame.empty() ? cloud_frame_ : radar_.frame;
-    if (mounting_ || frame.empty()) return;
-    mounting_ = tree_.lookup(d_.base_frame, frame, &unplaced_);
-    if (!mounting_) return;
-    stream_ = std::make_unique<InertialStream>(options_, *mounting_);
-    processReady(false);
-  }
-
-  /// Not placed for long: the oldest scan waiting is dropped (said), and the IMU messages before it,
-  /// so that a radar never placed does not hold the whole recording.
-  void dropOldestUnplaced() {
-    const double t = static_cast<double>(pending_.front().t_us) * 1e-6 - options_.radar_latency;
-    pending_.pop_front();
-    while (!imu_.empty() && imu_.front().t <= t) imu_.pop_front();
-    radar_state_.problem("radar " + radar_.name + " not placed (" + mountingState() +
-                         "): its oldest waiting scan dropped");
-  }
-
-  std::string mountingState() const {
-    if (mounting_) return "known";
-    if (radar_.frame.empty() && cloud_frame_.empty()) return "waiting for a cloud to name its frame";
-    return unplaced_.empty() ? "waiting for /tf_static or /tf" : unplaced_;
-  }
-
-  /// The stream went back in time (a bag played again) on `from`: the scans held are run, as at
-  /// the end offline, and everything starts again.
+  /// The stream went back in time (a bag played again) on `from`: what is held is run, as at the
+  /// end offline, and everything starts again.
   void restart(TopicState& from, std::int64_t t) {
     ROS_WARN_STREAM("radar_ndt_node: " << from.last_problem << ": the odometry starts again");
-    processReady(true);
-    radar_state_.last_us = imu_state_.last_us = -1;
-    last_scan_us_ = -1;
+    finish();
+    radars_->reset();
+    imu_state_.last_us = -1;
     restartOdometry();
     from.last_us = t;
   }
@@ -161,44 +101,30 @@ class InertialNode : public RadarNode {
     processReady(false);
   }
 
-  void onAnyCloud(const topic_tools::ShapeShifter& msg) {
-    const std::string& type = msg.getDataType();
-    if (type == "sensor_msgs/PointCloud2") return onCloud(*msg.instantiate<sensor_msgs::PointCloud2>());
-    if (type == "sensor_msgs/PointCloud") return onCloud(*msg.instantiate<sensor_msgs::PointCloud>());
-    ++radar_state_.malformed;
-    radar_state_.problem(radar_.topic + ": a " + type +
-                         ": radar clouds are read from sensor_msgs/PointCloud2 or sensor_msgs/PointCloud: left out");
+  /// A cycle's sweeps as steps, grouped by time as the offline run groups them.
+  void enqueue(RadarCycle& cycle) {
+    for (std::vector<RadarSweepData>& group : sweepsByTime(std::move(cycle.sweeps)))
+      pending_.push_back(std::move(group));
   }
 
-  template <typename Msg>
-  void onCloud(const Msg& msg) {
-    const ros::WallTime arrival = ros::WallTime::now();
-    if (cloud_frame_.empty() && !msg.header.frame_id.empty()) {
-      cloud_frame_ = msg.header.frame_id;
-      place();
+  void drain() {
+    // The run's defaults are the reference radar's (its accuracy), as offline; chosen once every
+    // radar is placed, before the first step.
+    if (!configured_ && radars_->reference()) {
+      options_ = inertialRunOptions(given_, inertialRunDefaults(d_, d_.radars[*radars_->reference()].name));
+      stream_ = std::make_unique<InertialStream>(options_, Eigen::Isometry3d::Identity());
+      configured_ = true;
     }
-    const std::int64_t t = stampOf(d_.stamps, msg.header.stamp);
-    if (radar_state_.arrived(t)) restart(radar_state_, t);
-    if (last_scan_us_ >= 0 && t <= last_scan_us_) {  // offline, the scans are in stamp order
-      ++radar_state_.late;
-      radar_state_.problem(radar_.topic + ": a scan not later than the last: left out");
-      return;
-    }
-    std::optional<pcl::PointCloud<PointRadar>> points = cloudPoints(radar_, 0, msg, radar_state_);
-    if (!points) return;
-    last_scan_us_ = t;
-    pending_.push_back(Scan{t, std::move(*points), arrival});
-    if (!stream_ && pending_.size() > kMaxUnplacedScans) dropOldestUnplaced();
+    while (auto cycle = radars_->next()) enqueue(*cycle);
     processReady(false);
   }
 
-  /// The scans, oldest first, each once an IMU message later than its measurement time has
+  /// The steps, oldest first, each once an IMU message later than its measurement time has
   /// arrived (when the IMU is fused); `all` runs every one (the stream went quiet).
   void processReady(bool all) {
-    if (!stream_) return;  // the radar is not placed yet
     while (!pending_.empty()) {
-      // The scan's measurement time as the offline run computes it.
-      const double tm = static_cast<double>(pending_.front().t_us) * 1e-6 - options_.radar_latency;
+      // The step's measurement time as the offline run computes it.
+      const double tm = static_cast<double>(pending_.front().front().timestamp_us) * 1e-6 - options_.radar_latency;
       if (!all && options_.imu && newest_imu_ <= tm) break;
       while (!imu_.empty() && imu_.front().t <= tm) {  // as offline: every message up to the scan first
         stream_->addImu(imu_.front());
@@ -209,13 +135,21 @@ class InertialNode : public RadarNode {
     }
   }
 
-  void flushIfQuiet() {
-    if (!pending_.empty() && radar_state_.quietFor(flush_after_)) processReady(true);
+  /// Every cycle still held, complete or not, and every step, as at the end offline.
+  void finish() {
+    for (RadarCycle& cycle : radars_->flush()) enqueue(cycle);
+    processReady(true);
   }
 
-  void process(const Scan& s) {
+  void flushIfQuiet() {
+    const ros::WallTime last = radars_->lastArrival();
+    if (!last.isZero() && (ros::WallTime::now() - last).toSec() >= flush_after_) finish();
+  }
+
+  void process(const std::vector<RadarSweepData>& group) {
     const double cpu0 = cpuSeconds();
-    const OdometryStep3D step = stream_->addScan(static_cast<double>(s.t_us) * 1e-6, s.points);
+    const std::int64_t t_us = group.front().timestamp_us;
+    const OdometryStep3D step = stream_->addScans(static_cast<double>(t_us) * 1e-6, group);
     ++scans_;
     if (!step.why.empty() && step.fallback) ROS_WARN_STREAM_THROTTLE(1.0, "radar_ndt_node: " << step.why);
     if (!step.skipped) {
@@ -228,7 +162,11 @@ class InertialNode : public RadarNode {
       still_ += step.still;
     }
     timing_.cpu_s.push_back(cpuSeconds() - cpu0);
-    timing_.latency_s.push_back((ros::WallTime::now() - s.arrival).toSec());
+    const auto arrived = arrival_.find(t_us);
+    if (arrived != arrival_.end()) {
+      timing_.latency_s.push_back((ros::WallTime::now() - arrived->second).toSec());
+      arrival_.erase(arrival_.begin(), std::next(arrived));
+    }
   }
 
   /// The local map the next scan is matched against, in the base frame of this one.
@@ -247,35 +185,29 @@ class InertialNode : public RadarNode {
   }
 
   void diagnose() {
-    const ros::WallTime newest = std::max(radar_state_.last_arrival, imu_state_.last_arrival);
-    std::vector<diagnostic_msgs::DiagnosticStatus> status;
-    status.push_back(radar_state_.status(newest, "silent: no scan for over a second while the IMU sends",
-                                         {{"mounting", mountingState()}}));
-    if (!tf_state_.last_problem.empty()) status.push_back(tf_state_.status(ros::WallTime(), ""));
+    const ros::WallTime newest = std::max(radars_->lastArrival(), imu_state_.last_arrival);
+    std::vector<diagnostic_msgs::DiagnosticStatus> status = radars_->status(newest);
     if (options_.imu)
       status.push_back(imu_state_.status(
-          newest, "silent: no IMU message for over a second while the radar sends; its scans wait for it"));
+          newest, "silent: no IMU message for over a second while the radars send; their scans wait for it"));
     status.push_back(timing_.status(cycles_, "scans"));
     pub_.diagnostics(std::move(status));
   }
 
   SensorDescription d_;
-  RadarDescription radar_;
   Publishers pub_;
+  Settings given_;  ///< the node's parameters as the run's settings
   InertialRunOptions options_;
+  bool configured_ = false;  ///< options_ from the reference radar's description, once it is chosen
   double flush_after_ = 0.5;
   std::string odom_frame_;
-  std::optional<Eigen::Isometry3d> mounting_;  ///< radar -> base: the description's, else the tree's
-  std::string cloud_frame_;                    ///< the clouds' frame, for /tf when the description names none
-  std::string unplaced_;                       ///< why the tree does not place the radar yet
-  ros1::MountingTree tree_;                    ///< /tf_static and /tf until the radar is placed
-  TopicState tf_state_{"/tf", "tf"};
-  std::unique_ptr<InertialStream> stream_;  ///< null until the radar is placed
-  TopicState radar_state_, imu_state_;
-  std::deque<ImuSample> imu_;  ///< IMU messages not yet handed over, in arrival order
-  std::deque<Scan> pending_;   ///< scans waiting for the IMU to pass them
-  double newest_imu_ = -1;     ///< s: the newest IMU message's time
-  std::int64_t last_scan_us_ = -1;
+  std::unique_ptr<RadarChannels> radars_;  ///< the radars' topics, mountings and cycles
+  std::unique_ptr<InertialStream> stream_;
+  TopicState imu_state_;
+  std::deque<ImuSample> imu_;                        ///< IMU messages not yet handed over, in arrival order
+  std::deque<std::vector<RadarSweepData>> pending_;  ///< steps (sweeps of one time) waiting for the IMU
+  double newest_imu_ = -1;                           ///< s: the newest IMU message's time
+  std::map<std::int64_t, ros::WallTime> arrival_;    ///< each cloud's arrival, by its stamp
   std::size_t scans_ = 0, cycles_ = 0, matched_ = 0, fallbacks_ = 0, still_ = 0;
   CycleTiming timing_;
   std::vector<ros::Subscriber> subs_;

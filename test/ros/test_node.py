@@ -133,6 +133,8 @@ def run_node(env, work, bag, rate, name, *params, sensors="preset:nuscenes_ars40
         node.kill()
         pytest.fail(f"the node did not stop within 30 s of SIGINT:\n{node.communicate()[0]}")
     import rosbag
+    if not recorded.exists():  # the recorder got nothing: the node's output says why
+        pytest.fail(f"nothing recorded from the node ({name}):\n{out}")
     poses, diag = [], []
     with rosbag.Bag(str(recorded)) as b:
         for topic, m, _ in b.read_messages():
@@ -516,6 +518,76 @@ def test_a_4d_radar_placed_by_tf_static_runs_live_as_offline(ros_env, tmp_path):
     mountings = [v.value for d in diag for s in d.status for v in s.values if v.key == "mounting"]
     assert mountings and mountings[-1] == "known", mountings
     print("rio_tf", out.strip().splitlines()[-1])
+
+
+def rio_with_a_second_radar(out, preset, offset):
+    """The header-stamped rio bag with a second radar on /ti_back/radar_scan_pcl: the same clouds in
+    a frame turned half a turn about the radar's z (x and y negated), stamped `offset` s later, and
+    the description with that radar mounted where the first is, turned back (its yaw a half turn
+    more, its own spherical accuracy): both see the same world, at their own times."""
+    import re
+    import rosbag
+    import rospy
+    m = re.search(r"mounting: \{x: (\S+), y: (\S+), z: (\S+), roll: (\S+), pitch: (\S+), yaw: (\S+)\}", preset)
+    x, y, z, roll, pitch, yaw = (float(v) for v in m.groups())
+    c, s = np.cos, np.sin
+    rz = lambda a: np.array([[c(a), -s(a), 0], [s(a), c(a), 0], [0, 0, 1]])
+    ry = lambda a: np.array([[c(a), 0, s(a)], [0, 1, 0], [-s(a), 0, c(a)]])
+    rx = lambda a: np.array([[1, 0, 0], [0, c(a), -s(a)], [0, s(a), c(a)]])
+    r = rz(yaw) @ ry(pitch) @ rx(roll) @ rz(np.pi)
+    back = (f"{{x: {x!r}, y: {y!r}, z: {z!r}, roll: {float(np.arctan2(r[2, 1], r[2, 2]))!r}, "
+            f"pitch: {float(-np.arcsin(r[2, 0]))!r}, yaw: {float(np.arctan2(r[1, 0], r[0, 0]))!r}}}")
+    radar = preset[preset.index("  - name:"):]
+    second = (radar.replace("IWR6843", "IWR6843_back").replace("/ti_mmwave/", "/ti_back/")
+              .replace(m.group(0), "mounting: " + back)
+              .replace("spherical_accuracy: {range: 0.05, azimuth_deg: 3, elevation_deg: 6}",
+                       "spherical_accuracy: {range: 0.1, azimuth_deg: 5, elevation_deg: 10}"))
+    assert second.count("IWR6843_back") == 1 and "elevation_deg: 10" in second
+    with rosbag.Bag(str(out), "w") as w, rosbag.Bag(RIO) as b:
+        for topic, msg, t in b.read_messages(topics=RIO_TOPICS):
+            msg.header.stamp = t
+            w.write(topic, msg, t)
+            if topic == RIO_TOPICS[0]:
+                xy = np.frombuffer(msg.data, dtype="<f4").reshape(-1, msg.point_step // 4).copy()
+                xy[:, :2] = -xy[:, :2]
+                msg.data = xy.tobytes()
+                later = t + rospy.Duration.from_sec(offset)
+                msg.header.stamp = later
+                w.write("/ti_back/radar_scan_pcl", msg, later)
+    return str(out), preset.rstrip("\n") + "\n" + second
+
+
+def test_a_rig_of_two_4d_radars_runs_live_as_offline(ros_env, tmp_path):
+    """Two 4D radars a rig through the 6-DoF node: the rio bag's radar and a second one turned back
+    (rio_with_a_second_radar), 40 ms apart. Offline, every sweep of both runs, each with its mounting
+    and its accuracy; live, the node plans the same cycles and steps: every pose equal within 1e-6."""
+    env, work = ros_env
+    if not os.path.exists(RIO):
+        pytest.skip(f"no {RIO} (../shared/data is absent)")
+    with open(os.path.join(PRESETS, "ti_iwr6843_rio.yaml")) as f:
+        preset = f.read().replace("stamps: receive", "stamps: header")
+    bag, description = rio_with_a_second_radar(tmp_path / "rio_two.bag", preset, 0.04)
+    sensors = tmp_path / "rio_two.yaml"
+    sensors.write_text(description)
+    args = ("--method", "pw-ndt-3d", "--imu", "--radar-latency", "0.125")
+    expected = offline(bag, work, *args, sensors=str(sensors))
+    single = tmp_path / "rio_one.yaml"
+    single.write_text(preset)
+    one = offline(bag, work, *args, sensors=str(single))
+    assert len(expected) > 1.5 * len(one), f"{len(expected)} poses with two radars, {len(one)} with one"
+    topics = RIO_TOPICS + ["/ti_back/radar_scan_pcl"]
+    poses, diag, out = run_node(env, work, bag, 10.0, "rio_two", "_matcher/method:=pw-ndt-3d", "_imu:=true",
+                                "_radar_latency:=0.125", sensors=str(sensors), topics=topics,
+                                period=reference_period(bag, RIO_TOPICS[0]))
+    assert len(poses) == len(expected), f"{len(poses)} poses published, {len(expected)} offline\n{out}"
+    assert np.abs(poses[:, 0] - expected[:, 0]).max() < 1e-6
+    d = np.abs(poses[:, 1:4] - expected[:, 1:4]).max(axis=1)
+    assert d.max() < 1e-6, f"first difference at scan {np.argmax(d > 1e-6)}: {d.max()} m\n{out}"
+    sign = np.sign(np.einsum("ij,ij->i", poses[:, 4:8], expected[:, 4:8]))[:, None]
+    assert np.abs(poses[:, 4:8] - sign * expected[:, 4:8]).max() < 1e-6, out
+    names = {s.hardware_id for d in diag for s in d.status}
+    assert {"IWR6843", "IWR6843_back"} <= names, names
+    print("rio_two", out.strip().splitlines()[-1])
 
 
 def test_the_launch_file_gives_the_node_its_settings_file(tmp_path):

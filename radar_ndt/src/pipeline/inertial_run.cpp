@@ -75,6 +75,18 @@ pcl::PointCloud<PointRadar4D> toRadar4D(const pcl::PointCloud<PointRadar>& point
   return scan;
 }
 
+std::vector<std::vector<RadarSweepData>> sweepsByTime(std::vector<RadarSweepData> sweeps) {
+  std::stable_sort(sweeps.begin(), sweeps.end(), [](const RadarSweepData& a, const RadarSweepData& b) {
+    return a.timestamp_us != b.timestamp_us ? a.timestamp_us < b.timestamp_us : a.sensor_id < b.sensor_id;
+  });
+  std::vector<std::vector<RadarSweepData>> groups;
+  for (RadarSweepData& sweep : sweeps) {
+    if (groups.empty() || groups.back().front().timestamp_us != sweep.timestamp_us) groups.emplace_back();
+    groups.back().push_back(std::move(sweep));
+  }
+  return groups;
+}
+
 namespace {
 
 /// The odometry's options as the run's say: its method and whether the IMU is fused.
@@ -117,16 +129,8 @@ std::vector<std::vector<RadarSweepData>> loadSweeps(const RadarCycleSource& cycl
     return {};
   }
   r.radar = cycles.referenceChannel();
-  std::stable_sort(cycle.sweeps.begin(), cycle.sweeps.end(), [](const RadarSweepData& a, const RadarSweepData& b) {
-    return a.timestamp_us != b.timestamp_us ? a.timestamp_us < b.timestamp_us : a.sensor_id < b.sensor_id;
-  });
-  std::vector<std::vector<RadarSweepData>> groups;
-  for (RadarSweepData& sweep : cycle.sweeps) {
-    radars.insert(sweep.sensor_id);
-    if (groups.empty() || groups.back().front().timestamp_us != sweep.timestamp_us) groups.emplace_back();
-    groups.back().push_back(std::move(sweep));
-  }
-  return groups;
+  for (const RadarSweepData& sweep : cycle.sweeps) radars.insert(sweep.sensor_id);
+  return sweepsByTime(std::move(cycle.sweeps));
 }
 
 /// The group's detections in the body frame, each radar's through its mounting, with its accuracy.

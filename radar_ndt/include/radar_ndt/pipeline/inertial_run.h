@@ -118,6 +118,10 @@ InertialRunOptions inertialRunDefaults(const SensorDescription& d, const std::st
 /// receding) as PointRadar4D with `accuracy`'s covariance, in the sensor frame.
 pcl::PointCloud<PointRadar4D> toRadar4D(const pcl::PointCloud<PointRadar>& points, const SphericalAccuracy& accuracy);
 
+/// A cycle's sweeps as the 6-DoF run takes them: grouped by their recorded time, in time order,
+/// each group's sweeps in radar order. A group is one step (the sweeps of radars triggered together).
+std::vector<std::vector<RadarSweepData>> sweepsByTime(std::vector<RadarSweepData> sweeps);
+
 /// The live side: IMU messages and the radars' scans as they come, in time order; what the ROS
 /// node runs, message by message. Not for doppler-imu (a whole-run smoother: runInertialOdometry).
 class InertialStream {

@@ -24,7 +24,7 @@ bool accepts(const std::vector<int>& allowed, double value) {
 /// Column positions of the named fields in RadarPointFields::columns() order.
 struct Layout {
   int x = 0, y = 1, z = 2;
-  int doppler_a = -1, doppler_b = -1, rcs = -1, power = -1, acc_x = -1, acc_y = -1;
+  int doppler_a = -1, doppler_b = -1, rcs = -1, power = -1, acc_x = -1, acc_y = -1, time = -1;
   int keep_first = 0, keep_doppler_first = 0;
   std::size_t count = 0;
   explicit Layout(const RadarPointFields& f) {
@@ -40,6 +40,7 @@ struct Layout {
       acc_x = c++;
       acc_y = c++;
     }
+    if (!f.time.empty()) time = c++;
     keep_first = c;
     keep_doppler_first = c + static_cast<int>(f.keep.size());
     count = static_cast<std::size_t>(keep_doppler_first) + f.keep_doppler.size();
@@ -87,6 +88,7 @@ std::vector<std::string> RadarPointFields::columns() const {
     c.push_back(accuracy_x);
     c.push_back(accuracy_y);
   }
+  if (!time.empty()) c.push_back(time);
   for (const auto& k : keep) c.push_back(k.first);
   for (const auto& k : keep_doppler) c.push_back(k.first);
   return c;
@@ -99,6 +101,7 @@ std::vector<std::string> RadarPointFields::requiredColumns() const {
     c.push_back(vx);
     c.push_back(vy);
   }
+  if (!time.empty()) c.push_back(time);  // described: a cloud without it is not the driver's
   return c;
 }
 
@@ -118,8 +121,9 @@ pcl::PointCloud<PointRadar> convertRadarPoints(const std::vector<double>& table,
     const double va = l.doppler_a >= 0 ? r[l.doppler_a] : 0.0;
     const double vb = l.doppler_b >= 0 ? r[l.doppler_b] : 0.0;
     // Finite as floats too: a value beyond float's range is as unusable as Inf.
+    const double t = l.time >= 0 && present[static_cast<std::size_t>(l.time)] ? r[l.time] * fields.time_scale : 0.0;
     if (!finiteAsFloat(r[l.x]) || !finiteAsFloat(r[l.y]) || !finiteAsFloat(z) || !finiteAsFloat(va) ||
-        !finiteAsFloat(vb)) {
+        !finiteAsFloat(vb) || !finiteAsFloat(t)) {
       ++local.dropped_non_finite;
       continue;
     }
@@ -143,6 +147,7 @@ pcl::PointCloud<PointRadar> convertRadarPoints(const std::vector<double>& table,
     }
     p.rcs = l.rcs >= 0 && finiteAsFloat(r[l.rcs]) ? static_cast<float>(r[l.rcs]) : 0.f;
     p.sensor_id = sensor_id;
+    p.time_offset = static_cast<float>(t);
     const auto [sx, sy] = sigmas(r, l, fields);
     if (std::isfinite(sx) && std::isfinite(sy)) {
       p.cov_xx = static_cast<float>(sx * sx);

@@ -211,6 +211,24 @@ void readSphericalAccuracy(const Node& n, RadarPointFields& f) {
   f.spherical = s;
 }
 
+/// `time: FIELD` (seconds) or `time: {field: FIELD, unit: s|ms|us|ns}`: each detection's measurement
+/// time relative to its message's stamp (the driver's per-point time).
+void readTime(const Node& n, RadarPointFields& f) {
+  if (!n.isMap()) {
+    f.time = n.text();
+    return;
+  }
+  n.expectMap({"field", "unit"});
+  const auto field = n.child("field");
+  if (!field) n.fail("missing key 'field' (the per-point time's field)");
+  f.time = field->text();
+  const std::string unit = textOr(n, "unit", "s");
+  const std::pair<const char*, double> units[] = {{"s", 1.0}, {"ms", 1e-3}, {"us", 1e-6}, {"ns", 1e-9}};
+  const auto it = std::find_if(std::begin(units), std::end(units), [&](const auto& u) { return unit == u.first; });
+  if (it == std::end(units)) n.child("unit")->fail("unknown unit '" + unit + "' (s, ms, us, ns)");
+  f.time_scale = it->second;
+}
+
 /// `keep:` or `keep_doppler:`: field: [the integer values kept, ...].
 std::vector<std::pair<std::string, std::vector<int>>> keepLists(const Node& n, const char* key) {
   std::vector<std::pair<std::string, std::vector<int>>> lists;
@@ -231,8 +249,8 @@ std::vector<std::pair<std::string, std::vector<int>>> keepLists(const Node& n, c
 }
 
 RadarPointFields readFields(const Node& n) {
-  n.expectMap(
-      {"position", "doppler", "rcs", "power", "accuracy", "spherical_accuracy", "max_range", "keep", "keep_doppler"});
+  n.expectMap({"position", "doppler", "rcs", "power", "accuracy", "spherical_accuracy", "time", "max_range", "keep",
+               "keep_doppler"});
   RadarPointFields f;
   f.doppler = DopplerKind::None;
   if (const auto p = n.child("position")) {
@@ -249,6 +267,7 @@ RadarPointFields readFields(const Node& n) {
   f.power = textOr(n, "power", "");
   if (const auto a = n.child("accuracy")) readAccuracy(*a, f);
   if (const auto a = n.child("spherical_accuracy")) readSphericalAccuracy(*a, f);
+  if (const auto t = n.child("time")) readTime(*t, f);
   if (const auto r = n.child("max_range")) {
     f.max_range = r->number();
     if (!(f.max_range > 0)) r->fail("must be > 0 (m)");

@@ -1,22 +1,21 @@
 // The 6-DoF odometry's parts (radar_ndt/odometry/inertial_filter.h, local_map_3d.h,
 // radar_inertial_odometry.h): the inertial filter's still start, gyro prior, gravity and pose
 // updates; the local map's frame and keyframes; the whole odometry on a simulated drive with a
-// 4D radar and a MEMS IMU, radar only and fused, and its bad input.
+// 4D radar and a MEMS IMU, radar only and fused, its bad input, and the de-skew by per-point times.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "drive_support.h"
 #include "radar_ndt/evaluation/metrics_6dof.h"
-#include "radar_ndt/evaluation/run_report.h"
 #include "radar_ndt/odometry/doppler_imu.h"
 #include "radar_ndt/odometry/inertial_filter.h"
 #include "radar_ndt/odometry/local_map_3d.h"
 #include "radar_ndt/odometry/radar_inertial_odometry.h"
-#include "radar_ndt/pipeline/inertial_run.h"
-#include "radar_ndt/pipeline/run_settings.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/se3.h"
 #include "radar_ndt/sim/motion_6dof.h"
@@ -189,27 +188,6 @@ TEST(LocalMap3D, EachRadarKeepsItsOwnKeyframes) {
 
 namespace {
 
-/// A drive at 4 Hz: still 3 s, then up to about 8 m/s along a long left curve over a gentle hill.
-Trajectory curveDrive(double seconds) {
-  Trajectory t;
-  double s_along = 0, yaw = 0;
-  Eigen::Vector2d xy(0, 0);
-  for (double s = 0; s <= seconds; s += 0.25) {
-    const double speed = s < 3 ? 0 : 8 * std::min(1.0, (s - 3) / 5);
-    s_along += speed * 0.25;
-    yaw += speed * 0.25 / 80.0 * (s > 10 ? 1 : 0);
-    xy += speed * 0.25 * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    const double pitch = -0.03 * std::cos(s_along / 30.0);
-    T.translation() = Eigen::Vector3d(xy.x(), xy.y(), 0.9 * std::sin(s_along / 30.0));
-    T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()))
-                     .toRotationMatrix();
-    t.stamps.push_back(50 + s);
-    t.poses.push_back(T);
-  }
-  return t;
-}
-
 struct DriveRun {
   Trajectory trajectory;
   std::size_t fallbacks = 0, skipped = 0;
@@ -233,7 +211,7 @@ DriveRun runDrive(const sim::Radar4DSequence& seq, const RadarInertialOptions& o
 
 const sim::Radar4DSequence& driveSequence() {
   static const sim::Radar4DSequence seq = [] {
-    const sim::Motion6Dof motion(curveDrive(40));
+    const sim::Motion6Dof motion(test::curveDrive(40));
     return sim::simulateRadar4DSequence(motion, sim::worldAlongPath(motion, true, 5), sim::radar4DPreset("ars548"), 10,
                                         sim::imu6Preset("mems"), 5);
   }();
@@ -316,175 +294,73 @@ TEST(RadarInertialOdometry, SettingsAreChecked) {
   EXPECT_THROW(RadarInertialOdometry{o}, std::invalid_argument);
 }
 
-// projectToPlane: a tilted pose keeps its x, y and heading (where its x axis points in the plane),
-// loses z, roll and pitch; a heading is the x axis's, not the y axis's.
-TEST(InertialRun, ProjectToPlaneKeepsPositionAndHeading) {
-  Trajectory t;
-  for (const double yaw : {0.3, 2.0, -2.8}) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()) *
-                  Eigen::AngleAxisd(-0.15, Eigen::Vector3d::UnitX()))
-                     .toRotationMatrix();
-    T.translation() = Eigen::Vector3d(1.5, -2.0, 3.0);
-    t.stamps.push_back(static_cast<double>(t.size()));
-    t.poses.push_back(T);
+// De-skew: a reflector seen from the body at t + τ, moved by the body's velocity and turn rate at
+// t, is where the body at t sees it; a detection without an offset is left exactly as it is.
+TEST(RadarInertialOdometry, DeskewMovesEachDetectionToTheScansTime) {
+  const sim::Motion6Dof motion(test::curveDrive(40));
+  const double t = 66;  // 8 m/s along the left curve, over the hill
+  const Eigen::Isometry3d T0 = motion.pose(t);
+  const Eigen::Vector3d v = T0.linear().transpose() * motion.velocity(t), w = motion.angularVelocity(t);
+  pcl::PointCloud<PointRadar4D> body;
+  std::vector<Eigen::Vector3d> at_t;
+  for (const double tau : {-0.09, -0.05, 0.0, 0.03})
+    for (const Eigen::Vector3d& x : {Eigen::Vector3d(30, 5, 1), Eigen::Vector3d(-10, -20, 2)}) {
+      const Eigen::Vector3d seen = motion.pose(t + tau).inverse() * (T0 * x);
+      PointRadar4D p(static_cast<float>(seen.x()), static_cast<float>(seen.y()), static_cast<float>(seen.z()), 1.f);
+      p.time_offset = static_cast<float>(tau);
+      p.cov_xx = 1.f;  // along x only: turned with the point
+      body.push_back(p);
+      at_t.push_back(x);
+    }
+  const pcl::PointCloud<PointRadar4D> raw = body;
+  deskewBody(body, v, w);
+  for (std::size_t i = 0; i < body.size(); ++i) {
+    const double error = (body[i].getVector3fMap().cast<double>() - at_t[i]).norm();
+    const double raw_error = (raw[i].getVector3fMap().cast<double>() - at_t[i]).norm();
+    EXPECT_EQ(body[i].time_offset, 0.f);
+    if (raw[i].time_offset == 0.f) {
+      EXPECT_EQ(body[i].getVector3fMap(), raw[i].getVector3fMap());
+      EXPECT_EQ(body[i].cov_xx, 1.f);
+      continue;
+    }
+    EXPECT_LT(error, 0.01) << "tau " << raw[i].time_offset << ": " << raw_error << " m before";
+    EXPECT_GT(raw_error, 0.2);
+    EXPECT_LT(body[i].cov_xx, 1.f) << "the covariance turned with the point";
   }
-  const Trajectory p = projectToPlane(t);
-  ASSERT_EQ(p.size(), t.size());
-  EXPECT_EQ(p.stamps, t.stamps);
-  const double yaws[] = {0.3, 2.0, -2.8};
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const Pose2 q = toPose2(p.poses[i]);
-    EXPECT_NEAR(q.x(), 1.5, 1e-12);
-    EXPECT_NEAR(q.y(), -2.0, 1e-12);
-    EXPECT_NEAR(q.z(), yaws[i], 1e-12);  // z-y-x: the yaw is the x axis's heading
-    EXPECT_NEAR(p.poses[i].translation().z(), 0.0, 1e-12);
-  }
-  EXPECT_TRUE(isPlanar(p.poses));
 }
 
-namespace {
-
-/// Two simulated radars on one rig as a recording's cycles: each cycle radar 0's scan (the
-/// reference) and radar 1's scans since the one before, each with its mounting.
-class TwoRadars : public RadarCycleSource {
- public:
-  TwoRadars(const sim::Radar4DSequence& a, const Eigen::Isometry3d& mount_a, const sim::Radar4DSequence& b,
-            const Eigen::Isometry3d& mount_b)
-      : a_(a), b_(b), mount_{mount_a, mount_b} {}
-  const std::string& sceneName() const override { return name_; }
-  const std::string& referenceChannel() const override { return reference_; }
-  double periodSeconds() const override { return a_.stamps[1] - a_.stamps[0]; }
-  std::size_t size() const override { return a_.scans.size(); }
-  std::int64_t timestamp(std::size_t k) const override { return us(a_.stamps[k]); }
-  Trajectory groundTruthTrajectory() const override { return {}; }
-  const std::vector<std::string>& silences() const override { return silences_; }
-  RadarCycle load(std::size_t k, std::vector<std::string>*, std::size_t*) const override {
-    RadarCycle cycle;
-    cycle.timestamp_us = timestamp(k);
-    cycle.sweeps.push_back(sweep(a_.scans[k], cycle.timestamp_us, 0));
-    for (std::size_t j = 0; j < b_.scans.size(); ++j) {
-      const std::int64_t t = us(b_.stamps[j]);
-      if (t <= cycle.timestamp_us && (k == 0 || t > timestamp(k - 1))) cycle.sweeps.push_back(sweep(b_.scans[j], t, 1));
-    }
-    return cycle;
+// A radar whose detections come over its sweep, with a driver's per-point times: each scan four
+// sub-scans 25 ms apart, stamped at the last. De-skewed by the step's velocity and turn rate, the
+// fused run follows the drive closer than with every detection taken at the stamp.
+TEST(RadarInertialOdometry, ASweepsPerPointTimesAreDeskewed) {
+  if (test::kSanitizedBuild) GTEST_SKIP() << "two 30 s runs: the geometry test above stands for it";
+  const sim::Motion6Dof motion(test::curveDrive(30));
+  const sim::Radar4DSequence fine = sim::simulateRadar4DSequence(
+      motion, sim::worldAlongPath(motion, true, 5), sim::radar4DPreset("ars548"), 40, sim::imu6Preset("mems"), 5);
+  sim::Radar4DSequence spread;
+  spread.imu = fine.imu;
+  for (std::size_t k = 3; k < fine.scans.size(); k += 4) {
+    spread.stamps.push_back(fine.stamps[k]);
+    spread.scans.emplace_back();
+    for (std::size_t j = k - 3; j <= k; ++j)
+      for (PointRadar4D p : fine.scans[j]) {
+        p.time_offset = static_cast<float>(fine.stamps[j] - fine.stamps[k]);
+        spread.scans.back().push_back(p);
+      }
   }
-
- private:
-  static std::int64_t us(double t) { return std::llround(t * 1e6); }
-  /// As a recording reads it: PointRadar in the radar's frame, Doppler as the simulator gives it.
-  RadarSweepData sweep(const pcl::PointCloud<PointRadar4D>& scan, std::int64_t t, std::uint16_t id) const {
-    RadarSweepData s;
-    s.timestamp_us = t;
-    s.sensor_id = id;
-    s.sensor_to_vehicle = mount_[id];
-    for (const PointRadar4D& p : scan) {
-      PointRadar q;
-      q.x = p.x, q.y = p.y, q.z = p.z, q.power = p.power, q.doppler = p.doppler, q.rcs = p.rcs, q.sensor_id = id;
-      s.points.push_back(q);
-    }
-    return s;
-  }
-  const sim::Radar4DSequence &a_, &b_;
-  Eigen::Isometry3d mount_[2];
-  std::string name_ = "two radars", reference_ = "front";
-  std::vector<std::string> silences_;
-};
-
-/// The ATE (position + yaw) of `r` against `motion`.
-double ateOf(const InertialRunResult& r, const sim::Motion6Dof& motion) {
   Trajectory truth;
   for (double t = motion.start(); t <= motion.end(); t += 0.01) {
     truth.stamps.push_back(t);
     truth.poses.push_back(motion.pose(t));
   }
-  return absoluteTrajectoryError6Dof(associate(truth, r.estimate), TrajectoryAlignment::PositionYaw).rmse_m;
-}
-
-}  // namespace
-
-// A rig of two radars, a forward one and one looking back from the rear: every sweep of both runs,
-// each through its own mounting. Sweeps at one time are one step (their Doppler velocities fused,
-// their detections matched together): better than either radar alone. At their own times (10 Hz
-// and 8 Hz) each is a step, matched against the map both built: near the forward radar alone.
-TEST(InertialRun, SeveralRadarsRunEachThroughItsMounting) {
-  const sim::Motion6Dof motion(curveDrive(25));
-  const sim::World3D world = sim::worldAlongPath(motion, true, 5);
-  const sim::Imu6Options imu = sim::imu6Preset("mems");
-  Eigen::Isometry3d front = Eigen::Isometry3d::Identity(), rear = Eigen::Isometry3d::Identity();
-  front.translation() = Eigen::Vector3d(2.0, 0.3, 0.5);
-  rear.translation() = Eigen::Vector3d(-1.0, -0.3, 0.6);
-  rear.linear() = Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const sim::Radar4DModel model = sim::radar4DPreset("ars548");
-  const sim::Radar4DSequence a = sim::simulateRadar4DSequence(motion, world, model, 10, imu, 5, front);
-  const sim::Radar4DSequence b = sim::simulateRadar4DSequence(motion, world, model, 10, imu, 6, rear);
-  const sim::Radar4DSequence none;
-  InertialRunOptions o;
-  o.imu = true;
-  const double front_alone = ateOf(runInertialOdometry(TwoRadars(a, front, none, rear), a.imu, o), motion);
-  const double rear_alone = ateOf(runInertialOdometry(TwoRadars(b, rear, none, front), a.imu, o), motion);
-
-  const InertialRunResult together = runInertialOdometry(TwoRadars(a, front, b, rear), a.imu, o);
-  EXPECT_EQ(together.radars, 2u);
-  EXPECT_EQ(together.scans, a.scans.size()) << "the two sweeps of a time are one step";
-  const double ate = ateOf(together, motion);
-  EXPECT_LT(ate, 0.5 * std::min(front_alone, rear_alone)) << front_alone << " m and " << rear_alone << " m alone";
-  EXPECT_LT(together.fallbacks, together.scans / 10);
-  EXPECT_NE(summaryText(together).find("front and 1 more radar"), std::string::npos) << summaryText(together);
-
-  if (test::kSanitizedBuild) return;  // one representative case under the sanitizers
-  const sim::Radar4DSequence b8 = sim::simulateRadar4DSequence(motion, world, model, 8, imu, 6, rear);
-  const InertialRunResult apart = runInertialOdometry(TwoRadars(a, front, b8, rear), a.imu, o);
-  EXPECT_EQ(apart.scans, a.scans.size() + b8.scans.size()) << "each sweep at its own time, a step";
-  EXPECT_LT(ateOf(apart, motion), 1.5 * front_alone);
-  EXPECT_LT(ateOf(apart, motion), 0.5 * rear_alone);
-}
-
-// Each radar's detections carry its own description's spherical accuracy (the others', the
-// reference's); an accuracy given as a setting is every radar's.
-TEST(InertialRun, EachRadarKeepsItsOwnAccuracy) {
-  SensorDescription d;
-  d.radars.resize(3);
-  d.radars[0].name = "front";
-  d.radars[0].fields.spherical = SphericalSigmas{0.1, 0.5, 1.0};
-  d.radars[1].name = "rear";
-  d.radars[1].fields.spherical = SphericalSigmas{0.4, 2.0, 5.0};
-  d.radars[2].name = "side";  // no accuracy of its own
-  const InertialRunOptions o = inertialRunDefaults(d, "front");
-  EXPECT_EQ(o.accuracyOf(0).range_sigma, 0.1);
-  EXPECT_EQ(o.accuracyOf(1).range_sigma, 0.4);
-  EXPECT_EQ(o.accuracyOf(1).elevation_sigma_deg, 5.0);
-  EXPECT_EQ(o.accuracyOf(2).azimuth_sigma_deg, 0.5);
-  const InertialRunOptions given = inertialRunOptions({{"accuracy.range_sigma", 0.3}}, o);
-  for (std::uint16_t id = 0; id < 3; ++id) EXPECT_EQ(given.accuracyOf(id).range_sigma, 0.3) << id;
-
-  // In a run, the detections handed to the step's callback (body frame) carry their radar's.
-  const sim::Motion6Dof motion(curveDrive(3));
-  const sim::World3D world = sim::worldAlongPath(motion, true, 5);
-  Eigen::Isometry3d front = Eigen::Isometry3d::Identity(), rear = Eigen::Isometry3d::Identity();
-  front.translation() = Eigen::Vector3d(2.0, 0.3, 0.5);
-  rear.translation() = Eigen::Vector3d(-1.0, -0.3, 0.6);
-  rear.linear() = Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const sim::Imu6Options imu = sim::imu6Preset("mems");
-  const sim::Radar4DModel model = sim::radar4DPreset("ars548");
-  const sim::Radar4DSequence a = sim::simulateRadar4DSequence(motion, world, model, 10, imu, 5, front);
-  const sim::Radar4DSequence b = sim::simulateRadar4DSequence(motion, world, model, 10, imu, 6, rear);
-  const Eigen::Isometry3d mounts[2] = {front, rear};
-  std::size_t checked[2] = {0, 0};
-  runInertialOdometry(
-      TwoRadars(a, front, b, rear), a.imu, o, nullptr,
-      [&](std::size_t, const OdometryStep3D&, const pcl::PointCloud<PointRadar4D>& body) {
-        for (const PointRadar4D& p : body) {
-          const Eigen::Isometry3d& m = mounts[p.sensor_id];
-          const Eigen::Matrix3d R = m.linear();
-          const Eigen::Matrix3d want =
-              R * sphericalCovariance(m.inverse() * p.getVector3fMap().cast<double>(), o.accuracyOf(p.sensor_id)) *
-              R.transpose();
-          EXPECT_NEAR(p.cov_zz, want(2, 2), 1e-4 * want(2, 2) + 1e-6);
-          EXPECT_NEAR(p.cov_xy, want(0, 1), 1e-4 * std::abs(want(0, 1)) + 1e-6);
-          ++checked[p.sensor_id];
-        }
-      });
-  EXPECT_GT(checked[0], 100u);
-  EXPECT_GT(checked[1], 100u);
+  RadarInertialOptions o;
+  const DriveRun deskewed = runDrive(spread, o);
+  o.deskew = false;
+  const DriveRun at_stamp = runDrive(spread, o);
+  const auto ate = [&](const DriveRun& r) {
+    return absoluteTrajectoryError6Dof(associate(truth, r.trajectory), TrajectoryAlignment::PositionYaw).rmse_m;
+  };
+  std::printf("deskew %.3f m (%zu fallbacks), at the stamp %.3f m (%zu)\n", ate(deskewed), deskewed.fallbacks,
+              ate(at_stamp), at_stamp.fallbacks);
+  EXPECT_LT(ate(deskewed), 0.95 * ate(at_stamp));
 }

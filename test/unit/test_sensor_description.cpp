@@ -295,3 +295,33 @@ TEST(SensorDescription, RadarPointsFromNamedFields) {
   EXPECT_FLOAT_EQ(cloud[0].doppler, (3 * 1 + 4 * 2) / 5.0f);
   EXPECT_EQ(cloud[0].cov_xx, 0.0f);  // the front-end's model
 }
+
+// A driver's per-point time: `time: FIELD` (seconds) or `{field, unit}`, read into time_offset (s)
+// relative to the message's stamp; a named time field is required, a non-finite time dropped.
+TEST(SensorDescription, APerPointTimeIsReadInSeconds) {
+  const SensorDescription d = parseSensorDescription(
+      "radars:\n  - {name: a, topic: /a, fields: {doppler: {radial: v}, time: {field: t, unit: ns}}}\n"
+      "  - {name: b, topic: /b, fields: {doppler: {radial: v}, time: dt}}\n",
+      "my_radar.yaml");
+  EXPECT_EQ(d.radars[0].fields.time, "t");
+  EXPECT_EQ(d.radars[0].fields.time_scale, 1e-9);
+  EXPECT_EQ(d.radars[1].fields.time, "dt");
+  EXPECT_EQ(d.radars[1].fields.time_scale, 1.0);
+  expectError("radars:\n  - topic: /r\n    fields: {doppler: {radial: v}, time: {field: t, unit: min}}\n",
+              "radars[0].fields.time.unit", "unknown unit 'min'");
+  expectError("radars:\n  - topic: /r\n    fields: {doppler: {radial: v}, time: {unit: s}}\n", "radars[0].fields.time",
+              "missing key 'field'");
+
+  RadarPointFields f = d.radars[0].fields;
+  ASSERT_EQ(f.columns(), (std::vector<std::string>{"x", "y", "z", "v", "t"}));
+  EXPECT_EQ(f.requiredColumns(), (std::vector<std::string>{"x", "y", "v", "t"}));
+  const std::vector<double> table{3, 4, 0, 1, -25e6,  // 25 ms before the stamp
+                                  3, 4, 0, 1, NAN};
+  RadarPointStats stats;
+  const auto cloud = convertRadarPoints(table, 2, {1, 1, 1, 1, 1}, f, 0, &stats);
+  ASSERT_EQ(cloud.size(), 1u);
+  EXPECT_FLOAT_EQ(cloud[0].time_offset, -0.025f);
+  EXPECT_EQ(stats.dropped_non_finite, 1u);
+  f.time.clear();  // none named: every detection at the stamp
+  EXPECT_EQ(convertRadarPoints({3, 4, 0, 1}, 1, {1, 1, 1, 1}, f, 0)[0].time_offset, 0.0f);
+}

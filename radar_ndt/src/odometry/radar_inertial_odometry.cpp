@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "radar_ndt/registration/detail/point_fields.h"
 #include "radar_ndt/registration/weighted_ndt_3d.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/se3.h"
@@ -37,6 +38,24 @@ Cloud::Ptr staticBodyCloud(const Cloud& scan, const std::vector<bool>& inlier, b
     if (!use_inliers || inlier[i]) kept.push_back(scan[i]);
   return Cloud::Ptr(new Cloud(transformRadar4D(kept, radar_to_body)));
 }
+
+}  // namespace
+
+void deskewBody(Cloud& body, const Eigen::Vector3d& velocity, const Eigen::Vector3d& omega) {
+  for (PointRadar4D& p : body) {
+    const double t = p.time_offset;
+    if (t == 0.0 || !std::isfinite(t)) continue;
+    const Eigen::Matrix3d R = expSO3(omega * t);
+    const Eigen::Vector3d q = R * Eigen::Vector3d(p.x, p.y, p.z) + velocity * t + 0.5 * t * t * omega.cross(velocity);
+    p.x = static_cast<float>(q.x());
+    p.y = static_cast<float>(q.y());
+    p.z = static_cast<float>(q.z());
+    detail::rotateCovariance3D(p, R);
+    p.time_offset = 0.f;
+  }
+}
+
+namespace {
 
 /// The match held to the prior's roll and pitch (a 4D radar's elevation is coarse; gravity holds
 /// them). With the match's information Λ = C⁻¹ about it (C the matcher's covariance in
@@ -287,6 +306,7 @@ OdometryStep3D RadarInertialOdometry::addScans(double stamp, const std::vector<R
                (options_.use_imu || rotation_rate_.norm() < options_.still_rate);
   if (step.still) velocity.setZero();
   step.velocity = velocity;
+  if (options_.deskew) deskewBody(*source, velocity, omega_guess);
   if (!started_) {
     if (options_.use_imu) {
       // The IMU's messages up to the scan carry the attitude to it; the odometry frame's origin

@@ -69,6 +69,7 @@ pcl::PointCloud<PointRadar4D> toRadar4D(const pcl::PointCloud<PointRadar>& point
     q.doppler = p.doppler;
     q.rcs = p.rcs;
     q.sensor_id = p.sensor_id;
+    q.time_offset = p.time_offset;  // a driver's per-point time: the odometry de-skews by it
     scan.push_back(q);
   }
   setPointCovariances(scan, Eigen::Matrix3d::Identity(), accuracy);

@@ -52,7 +52,11 @@ struct RadarPointFields {
   std::string accuracy_x, accuracy_y;        ///< Ars408Rms, RmsFields: their fields
   double sigma_x = 0.0, sigma_y = 0.0;       ///< Fixed: metres
   std::optional<SphericalSigmas> spherical;  ///< `spherical_accuracy:`; none: the run's setting
-  double max_range = 150.0;                  ///< detections beyond it dropped (m)
+  /// `time:` each detection's measurement time relative to its message's stamp (a driver's per-point
+  /// time), read into time_offset (s) as the field's value times `time_scale`; empty: none (0).
+  std::string time;
+  double time_scale = 1.0;
+  double max_range = 150.0;  ///< detections beyond it dropped (m)
   /// Detections kept only when each listed field's value (rounded to an integer) is one of its
   /// values; a field the data lacks keeps every detection.
   std::vector<std::pair<std::string, std::vector<int>>> keep;
@@ -63,10 +67,10 @@ struct RadarPointFields {
   std::vector<std::pair<std::string, std::vector<int>>> keep_doppler;
 
   /// The fields read, in the order convertRadarPoints takes their columns: x, y, z, then the
-  /// Doppler, rcs, power and accuracy fields that are named, then the keep filters', then the
+  /// Doppler, rcs, power, accuracy and time fields that are named, then the keep filters', then the
   /// keep_doppler filters'.
   std::vector<std::string> columns() const;
-  /// The fields the data must have: x, y and the Doppler fields.
+  /// The fields the data must have: x, y, the Doppler fields and the time field when named.
   std::vector<std::string> requiredColumns() const;
 };
 
@@ -74,7 +78,7 @@ struct RadarPointStats {
   std::size_t points_in_data = 0;
   std::size_t kept = 0;
   std::size_t dropped_by_filter = 0;
-  std::size_t dropped_non_finite = 0;  ///< NaN or Inf coordinates or velocities
+  std::size_t dropped_non_finite = 0;  ///< NaN or Inf coordinates, velocities or times
   std::size_t doppler_unused = 0;      ///< kept, their Doppler NaN (keep_doppler)
 };
 
@@ -82,7 +86,8 @@ struct RadarPointStats {
 /// column for each of `fields.columns()`, into PointRadar in
 /// the sensor frame: x y z, `doppler` positive when the target recedes, `rcs`, `power`, the
 /// covariance diagonal from the accuracy (0 for AccuracyKind::Model, and where a point's accuracy is
-/// invalid), `sensor_id`. Detections with non-finite coordinates or Doppler are dropped and counted;
+/// invalid), `time_offset` from the time field (0 without one), `sensor_id`. Detections with
+/// non-finite coordinates, Doppler or time are dropped and counted;
 /// those whose Doppler keep_doppler refuses get `doppler` NaN.
 /// `present[c]` says whether the data has column c at all (a missing z is 0, a missing filter
 /// field keeps every detection; the required columns must be present).

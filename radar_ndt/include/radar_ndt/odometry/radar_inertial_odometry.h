@@ -55,6 +55,9 @@ struct RadarInertialOptions {
   double still_velocity_chi2 = 7.81;
   double still_rate = 0.02;      ///< rad/s
   double imu_time_offset = 0.0;  ///< s added to the IMU's stamps to bring them to the radar's clock
+  /// Each detection with a time_offset (a driver's per-point time, the description's `time:`)
+  /// moved to the step's time under the step's velocity and turn rate (deskewBody).
+  bool deskew = true;
   LocalMap3DOptions map;
   EgoVelocity3DOptions ego_velocity;
   InertialFilterOptions filter;
@@ -87,11 +90,19 @@ void RadarInertialOptions::fields(Visit&& visit) {
         Field("still_rate", "standing still, radar only: the turn rate below this").unit("rad/s").atLeast(0));
   visit(&S::imu_time_offset,
         Field("imu_time_offset", "added to the IMU's stamps to bring them to the radar's clock").unit("s"));
+  visit(&S::deskew, Field("deskew", "detections with a per-point time moved to the scan's time (de-skew)"));
   visit(&S::map, Field("map", "the local map"));
   visit(&S::ego_velocity, Field("ego_velocity", "the 3D Doppler ego-velocity"));
   visit(&S::filter, Field("filter", "the inertial filter"));
   visit(&S::matchers, Field("matchers", "the 3D matchers' settings"));
 }
+
+/// Moves each detection of `body` (body frame, measured at the step's time plus its time_offset)
+/// into the body at the step's time, the body turning at `omega` and moving at `velocity` (body
+/// axes) over the offsets, a sweep's tens of milliseconds: p <- Exp(omega t) p + v t +
+/// (omega x v) t^2 / 2, its covariance turned with it; time_offset then 0. Points with no offset
+/// are left as they are.
+void deskewBody(pcl::PointCloud<PointRadar4D>& body, const Eigen::Vector3d& velocity, const Eigen::Vector3d& omega);
 
 /// What one scan gave.
 struct OdometryStep3D {

@@ -103,7 +103,7 @@ class InertialNode : public RadarNode {
 
   /// A cycle's sweeps as steps, grouped by time as the offline run groups them.
   void enqueue(RadarCycle& cycle) {
-    for (std::vector<RadarSweepData>& group : sweepsByTime(std::move(cycle.sweeps)))
+    for (std::vector<RadarSweepData>& group : sweepsByTime(std::move(cycle.sweeps), options_.merge_sweeps))
       pending_.push_back(std::move(group));
   }
 
@@ -124,7 +124,7 @@ class InertialNode : public RadarNode {
   void processReady(bool all) {
     while (!pending_.empty()) {
       // The step's measurement time as the offline run computes it.
-      const double tm = static_cast<double>(pending_.front().front().timestamp_us) * 1e-6 - options_.radar_latency;
+      const double tm = static_cast<double>(pending_.front().back().timestamp_us) * 1e-6 - options_.radar_latency;
       if (!all && options_.imu && newest_imu_ <= tm) break;
       while (!imu_.empty() && imu_.front().t <= tm) {  // as offline: every message up to the scan first
         stream_->addImu(imu_.front());
@@ -148,7 +148,7 @@ class InertialNode : public RadarNode {
 
   void process(const std::vector<RadarSweepData>& group) {
     const double cpu0 = cpuSeconds();
-    const std::int64_t t_us = group.front().timestamp_us;
+    const std::int64_t t_us = group.back().timestamp_us;  // a merged group's latest
     const OdometryStep3D step = stream_->addScans(static_cast<double>(t_us) * 1e-6, group);
     ++scans_;
     if (!step.why.empty() && step.fallback) ROS_WARN_STREAM_THROTTLE(1.0, "radar_ndt_node: " << step.why);

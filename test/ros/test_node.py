@@ -560,7 +560,8 @@ def rio_with_a_second_radar(out, preset, offset):
 def test_a_rig_of_two_4d_radars_runs_live_as_offline(ros_env, tmp_path):
     """Two 4D radars a rig through the 6-DoF node: the rio bag's radar and a second one turned back
     (rio_with_a_second_radar), 40 ms apart. Offline, every sweep of both runs, each with its mounting
-    and its accuracy; live, the node plans the same cycles and steps: every pose equal within 1e-6."""
+    and its accuracy: merged into the reference's steps (the default), or a step each
+    (--no-merge-sweeps); live, the node plans the same cycles and steps: every pose equal within 1e-6."""
     env, work = ros_env
     if not os.path.exists(RIO):
         pytest.skip(f"no {RIO} (../shared/data is absent)")
@@ -569,25 +570,30 @@ def test_a_rig_of_two_4d_radars_runs_live_as_offline(ros_env, tmp_path):
     bag, description = rio_with_a_second_radar(tmp_path / "rio_two.bag", preset, 0.04)
     sensors = tmp_path / "rio_two.yaml"
     sensors.write_text(description)
-    args = ("--method", "pw-ndt-3d", "--imu", "--radar-latency", "0.125")
-    expected = offline(bag, work, *args, sensors=str(sensors))
     single = tmp_path / "rio_one.yaml"
     single.write_text(preset)
+    args = ("--method", "pw-ndt-3d", "--imu", "--radar-latency", "0.125")
     one = offline(bag, work, *args, sensors=str(single))
-    assert len(expected) > 1.5 * len(one), f"{len(expected)} poses with two radars, {len(one)} with one"
     topics = RIO_TOPICS + ["/ti_back/radar_scan_pcl"]
-    poses, diag, out = run_node(env, work, bag, 10.0, "rio_two", "_matcher/method:=pw-ndt-3d", "_imu:=true",
-                                "_radar_latency:=0.125", sensors=str(sensors), topics=topics,
-                                period=reference_period(bag, RIO_TOPICS[0]))
-    assert len(poses) == len(expected), f"{len(poses)} poses published, {len(expected)} offline\n{out}"
-    assert np.abs(poses[:, 0] - expected[:, 0]).max() < 1e-6
-    d = np.abs(poses[:, 1:4] - expected[:, 1:4]).max(axis=1)
-    assert d.max() < 1e-6, f"first difference at scan {np.argmax(d > 1e-6)}: {d.max()} m\n{out}"
-    sign = np.sign(np.einsum("ij,ij->i", poses[:, 4:8], expected[:, 4:8]))[:, None]
-    assert np.abs(poses[:, 4:8] - sign * expected[:, 4:8]).max() < 1e-6, out
-    names = {s.hardware_id for d in diag for s in d.status}
-    assert {"IWR6843", "IWR6843_back"} <= names, names
-    print("rio_two", out.strip().splitlines()[-1])
+    period = reference_period(bag, RIO_TOPICS[0])
+    for name, switch, parameter in (("rio_merged", (), ()), ("rio_each", ("--no-merge-sweeps",), ("_merge_sweeps:=false",))):
+        expected = offline(bag, work, *args, *switch, sensors=str(sensors))
+        if switch:  # a step for each sweep time: about twice the single radar's
+            assert len(expected) > 1.5 * len(one), f"{len(expected)} poses with two radars, {len(one)} with one"
+        else:  # a step a cycle: the reference radar's
+            assert abs(len(expected) - len(one)) <= 2, f"{len(expected)} poses merged, {len(one)} with one radar"
+        poses, diag, out = run_node(env, work, bag, 10.0, name, "_matcher/method:=pw-ndt-3d", "_imu:=true",
+                                    "_radar_latency:=0.125", *parameter, sensors=str(sensors), topics=topics,
+                                    period=period)
+        assert len(poses) == len(expected), f"{name}: {len(poses)} poses published, {len(expected)} offline\n{out}"
+        assert np.abs(poses[:, 0] - expected[:, 0]).max() < 1e-6
+        d = np.abs(poses[:, 1:4] - expected[:, 1:4]).max(axis=1)
+        assert d.max() < 1e-6, f"{name}: first difference at scan {np.argmax(d > 1e-6)}: {d.max()} m\n{out}"
+        sign = np.sign(np.einsum("ij,ij->i", poses[:, 4:8], expected[:, 4:8]))[:, None]
+        assert np.abs(poses[:, 4:8] - sign * expected[:, 4:8]).max() < 1e-6, out
+        names = {s.hardware_id for d in diag for s in d.status}
+        assert {"IWR6843", "IWR6843_back"} <= names, names
+        print(name, len(expected), "poses;", out.strip().splitlines()[-1])
 
 
 def test_the_launch_file_gives_the_node_its_settings_file(tmp_path):

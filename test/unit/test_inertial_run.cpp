@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -108,7 +109,8 @@ double ateOf(const InertialRunResult& r, const sim::Motion6Dof& motion) {
 // A rig of two radars, a forward one and one looking back from the rear: every sweep of both runs,
 // each through its own mounting. Sweeps at one time are one step (their Doppler velocities fused,
 // their detections matched together): better than either radar alone. At their own times (10 Hz
-// and 8 Hz) each is a step, matched against the map both built: near the forward radar alone.
+// and 8 Hz), each a step (merge_sweeps off), matched against the map both built: near the forward
+// radar alone; merged into the forward radar's steps, de-skewed: near the synchronised pair.
 TEST(InertialRun, SeveralRadarsRunEachThroughItsMounting) {
   const sim::Motion6Dof motion(test::curveDrive(25));
   const sim::World3D world = sim::worldAlongPath(motion, true, 5);
@@ -136,10 +138,21 @@ TEST(InertialRun, SeveralRadarsRunEachThroughItsMounting) {
 
   if (test::kSanitizedBuild) return;  // one representative case under the sanitizers
   const sim::Radar4DSequence b8 = sim::simulateRadar4DSequence(motion, world, model, 8, imu, 6, rear);
-  const InertialRunResult apart = runInertialOdometry(TwoRadars(a, front, b8, rear), a.imu, o);
+  InertialRunOptions each_time = o;
+  each_time.merge_sweeps = false;
+  const InertialRunResult apart = runInertialOdometry(TwoRadars(a, front, b8, rear), a.imu, each_time);
   EXPECT_EQ(apart.scans, a.scans.size() + b8.scans.size()) << "each sweep at its own time, a step";
   EXPECT_LT(ateOf(apart, motion), 1.5 * front_alone);
   EXPECT_LT(ateOf(apart, motion), 0.5 * rear_alone);
+  // Merged (the default): each cycle one step at the front radar's time, the rear's sweep de-skewed
+  // to it: near the synchronised pair.
+  const InertialRunResult merged = runInertialOdometry(TwoRadars(a, front, b8, rear), a.imu, o);
+  EXPECT_EQ(merged.scans, a.scans.size()) << "a step a cycle";
+  std::printf("front %.3f m, rear %.3f m, together %.3f m, apart %.3f m (%zu fallbacks), merged %.3f m (%zu)\n",
+              front_alone, rear_alone, ate, ateOf(apart, motion), apart.fallbacks, ateOf(merged, motion),
+              merged.fallbacks);
+  EXPECT_LT(ateOf(merged, motion), 0.5 * ateOf(apart, motion));
+  EXPECT_LT(ateOf(merged, motion), 0.5 * front_alone);
 }
 
 // Each radar's detections carry its own description's spherical accuracy (the others', the

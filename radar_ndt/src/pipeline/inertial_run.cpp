@@ -76,13 +76,13 @@ pcl::PointCloud<PointRadar4D> toRadar4D(const pcl::PointCloud<PointRadar>& point
   return scan;
 }
 
-std::vector<std::vector<RadarSweepData>> sweepsByTime(std::vector<RadarSweepData> sweeps) {
+std::vector<std::vector<RadarSweepData>> sweepsByTime(std::vector<RadarSweepData> sweeps, bool merge) {
   std::stable_sort(sweeps.begin(), sweeps.end(), [](const RadarSweepData& a, const RadarSweepData& b) {
     return a.timestamp_us != b.timestamp_us ? a.timestamp_us < b.timestamp_us : a.sensor_id < b.sensor_id;
   });
   std::vector<std::vector<RadarSweepData>> groups;
   for (RadarSweepData& sweep : sweeps) {
-    if (groups.empty() || groups.back().front().timestamp_us != sweep.timestamp_us) groups.emplace_back();
+    if (groups.empty() || (!merge && groups.back().front().timestamp_us != sweep.timestamp_us)) groups.emplace_back();
     groups.back().push_back(std::move(sweep));
   }
   return groups;
@@ -115,8 +115,8 @@ Eigen::Vector3d gyroAt(const std::vector<ImuSample>& imu, double t) {
 /// The sweeps of cycle k of `cycles`, every radar's, grouped by their recorded time (time order,
 /// the groups' sweeps in radar order); none when the cycle is unreadable (said in `r`). `radars`
 /// collects the radars met.
-std::vector<std::vector<RadarSweepData>> loadSweeps(const RadarCycleSource& cycles, std::size_t k, InertialRunResult& r,
-                                                    std::set<std::uint16_t>& radars) {
+std::vector<std::vector<RadarSweepData>> loadSweeps(const RadarCycleSource& cycles, std::size_t k, bool merge,
+                                                    InertialRunResult& r, std::set<std::uint16_t>& radars) {
   std::vector<std::string> problems;
   RadarCycle cycle;
   try {
@@ -131,7 +131,7 @@ std::vector<std::vector<RadarSweepData>> loadSweeps(const RadarCycleSource& cycl
   }
   r.radar = cycles.referenceChannel();
   for (const RadarSweepData& sweep : cycle.sweeps) radars.insert(sweep.sensor_id);
-  return sweepsByTime(std::move(cycle.sweeps));
+  return sweepsByTime(std::move(cycle.sweeps), merge);
 }
 
 /// The group's detections in the body frame, each radar's through its mounting, with its accuracy.
@@ -153,8 +153,8 @@ void runBaseline(const RadarCycleSource& cycles, const std::vector<ImuSample>& i
   std::size_t n = cycles.size();
   if (o.max_cycles) n = std::min(n, o.max_cycles);
   for (std::size_t k = 0; k < n; ++k) {
-    for (const std::vector<RadarSweepData>& group : loadSweeps(cycles, k, r, radars)) {
-      const double t = static_cast<double>(group.front().timestamp_us) * 1e-6 - o.radar_latency;
+    for (const std::vector<RadarSweepData>& group : loadSweeps(cycles, k, o.merge_sweeps, r, radars)) {
+      const double t = static_cast<double>(group.back().timestamp_us) * 1e-6 - o.radar_latency;
       std::vector<std::pair<Eigen::Vector3d, Eigen::Matrix3d>> valid;  // the radars' body velocities
       BodyVelocitySample sample{t, Eigen::Vector3d::Zero(), false};
       for (const RadarSweepData& sweep : group) {
@@ -233,8 +233,13 @@ OdometryStep3D InertialStream::addScans(double stamp, const std::vector<RadarSwe
   std::vector<pcl::PointCloud<PointRadar4D>> clouds;
   clouds.reserve(sweeps.size());
   std::vector<RadarScan4D> scans;
+  std::int64_t latest = 0;
+  for (const RadarSweepData& s : sweeps) latest = std::max(latest, s.timestamp_us);
   for (const RadarSweepData& s : sweeps) {
     clouds.push_back(toRadar4D(s.points, options_.accuracyOf(s.sensor_id)));
+    // A sweep before the step's time (merge_sweeps): its detections' offsets say how long before.
+    if (s.timestamp_us != latest)
+      for (PointRadar4D& p : clouds.back()) p.time_offset += static_cast<float>(1e-6 * double(s.timestamp_us - latest));
     scans.push_back({&clouds.back(), s.sensor_to_vehicle, s.sensor_id});
   }
   return odometry_.addScans(stamp - options_.radar_latency, scans);
@@ -264,9 +269,9 @@ InertialRunResult runInertialOdometry(const RadarCycleSource& cycles, const std:
     std::size_t n = cycles.size();
     if (o.max_cycles) n = std::min(n, o.max_cycles);
     for (std::size_t k = 0; k < n; ++k) {
-      for (const std::vector<RadarSweepData>& group : loadSweeps(cycles, k, r, radars)) {
+      for (const std::vector<RadarSweepData>& group : loadSweeps(cycles, k, o.merge_sweeps, r, radars)) {
         if (!stream) stream = std::make_unique<InertialStream>(o, group.front().sensor_to_vehicle);
-        const double stamp = static_cast<double>(group.front().timestamp_us) * 1e-6;
+        const double stamp = static_cast<double>(group.back().timestamp_us) * 1e-6;  // a group's latest
         for (; next_imu < imu.size() && imu[next_imu].t <= stamp - o.radar_latency; ++next_imu)
           stream->addImu(imu[next_imu]);
         const OdometryStep3D step = stream->addScans(stamp, group);

@@ -70,6 +70,11 @@ struct InertialRunOptions {
   RadarInertialOptions odometry;
   DopplerImuOptions doppler_imu;
   std::size_t max_cycles = 0;  ///< 0: all
+  /// Radars not triggered together: each cycle's sweeps (the reference's and the others' within a
+  /// period before it) one step at the reference's time, each de-skewed by its offset
+  /// (odometry.deskew); off, a step for each sweep time. One radar, or radars triggered together,
+  /// run the same either way.
+  bool merge_sweeps = true;
   /// Throws std::invalid_argument naming the first setting out of range.
   void validate() const;
   template <typename Visit>
@@ -89,6 +94,9 @@ void InertialRunOptions::fields(Visit&& visit) {
   visit(&S::accuracy, Field("accuracy", "each detection's accuracy, its covariance's source"));
   visit(&S::odometry, Field("odometry", "the 6-DoF odometry"));
   visit(&S::doppler_imu, Field("doppler_imu", "the doppler-imu baseline"));
+  visit(&S::merge_sweeps,
+        Field("merge_sweeps", "several radars: a cycle's sweeps one step, each de-skewed to the latest's time")
+            .offSwitch("no-merge-sweeps", "several 4D radars: a step for each sweep time, not one a cycle"));
   visit(&S::max_cycles,
         Field("max_cycles", "stop after this many cycles per scene, or scans (0: all)").cli("max-cycles"));
 }
@@ -118,9 +126,11 @@ InertialRunOptions inertialRunDefaults(const SensorDescription& d, const std::st
 /// receding) as PointRadar4D with `accuracy`'s covariance, in the sensor frame.
 pcl::PointCloud<PointRadar4D> toRadar4D(const pcl::PointCloud<PointRadar>& points, const SphericalAccuracy& accuracy);
 
-/// A cycle's sweeps as the 6-DoF run takes them: grouped by their recorded time, in time order,
-/// each group's sweeps in radar order. A group is one step (the sweeps of radars triggered together).
-std::vector<std::vector<RadarSweepData>> sweepsByTime(std::vector<RadarSweepData> sweeps);
+/// A cycle's sweeps as the 6-DoF run takes them, in time order, each group's sweeps in radar order:
+/// grouped by their recorded time (a group is one step: the sweeps of radars triggered together),
+/// or with `merge` all of them one group, a step at the latest sweep's time (InertialStream
+/// de-skews the earlier ones).
+std::vector<std::vector<RadarSweepData>> sweepsByTime(std::vector<RadarSweepData> sweeps, bool merge = false);
 
 /// The live side: IMU messages and the radars' scans as they come, in time order; what the ROS
 /// node runs, message by message. Not for doppler-imu (a whole-run smoother: runInertialOdometry).
@@ -131,8 +141,10 @@ class InertialStream {
   void addImu(const ImuSample& sample);
   /// One scan, its recorded stamp (s; radar_latency is taken off here).
   OdometryStep3D addScan(double stamp, const pcl::PointCloud<PointRadar>& points);
-  /// The sweeps of several radars recorded at one `stamp` (s), each with its mounting
-  /// (`sensor_to_vehicle`) and radar (`sensor_id`), as one step (RadarInertialOdometry::addScans).
+  /// The sweeps of several radars as one step at `stamp` (s, the latest sweep's recorded time),
+  /// each with its mounting (`sensor_to_vehicle`) and radar (`sensor_id`)
+  /// (RadarInertialOdometry::addScans); an earlier sweep's detections are de-skewed by how much
+  /// earlier it was (merge_sweeps).
   OdometryStep3D addScans(double stamp, const std::vector<RadarSweepData>& sweeps);
   const RadarInertialOdometry& odometry() const { return odometry_; }
 

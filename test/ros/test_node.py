@@ -96,7 +96,7 @@ def wait_subscribed(env, wanted, timeout=60):
 
 
 def run_node(env, work, bag, rate, name, *params, sensors="preset:nuscenes_ars408", topics=NUSCENES_TOPICS,
-             period=None, plays=1, flush_after=1.0):
+             period=None, plays=1, flush_after=1.0, connected=False):
     recorded = work / f"{name}.bag"
     # Private parameters outlive a node on the master: a previous run's would be read again.
     subprocess.run(["rosparam", "delete", "/radar_ndt"], env=env, capture_output=True)
@@ -115,8 +115,11 @@ def run_node(env, work, bag, rate, name, *params, sensors="preset:nuscenes_ars40
     # -d: a pause after advertising, so that the node's subscriptions are connected before the first
     # messages go out (a message published before its subscriber connects is lost: under load the
     # IMU's first samples were, and the gyro's integral to the second cycle with them).
+    # connected: the node subscribes to every topic played; the player waits until each has a
+    # connection (a gyro message lost before its connection changes every pose after it).
+    wait = ["--wait-for-subscribers"] if connected else []
     for _ in range(plays):  # played again: the stream's time jumps back
-        play = subprocess.run(["rosbag", "play", "-q", "-d", "2", "-r", str(rate), bag, "--topics", *topics],
+        play = subprocess.run(["rosbag", "play", "-q", "-d", "2", *wait, "-r", str(rate), bag, "--topics", *topics],
                               env=env, capture_output=True, text=True)
         if play.returncode != 0:
             node.kill()
@@ -207,7 +210,8 @@ def test_scanning_radar_node_gives_the_offline_poses(ros_env, tmp_path):
                                                 (gyro, 10.0, 2, "scanning-gyro-fast",
                                                  ["_odometry/gyro/enabled:=true", "_odometry/gyro/bias_walk:=1e-7"])):
         poses, diag, out = run_node(env, work, bag, rate, name, *params, sensors=sensors,
-                                    topics=["/Navtech/Polar", "/imu"], period=period, plays=plays)
+                                    topics=["/Navtech/Polar", "/imu"], period=period, plays=plays,
+                                    connected=bool(params))
         assert len(poses) == plays * len(expected), f"{name}: {len(poses)} poses\n{out}"
         for k in range(plays):
             assert_same_poses(poses[k * len(expected):(k + 1) * len(expected)], expected, f"{name} pass {k + 1}", out)

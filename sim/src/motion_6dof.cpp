@@ -175,8 +175,10 @@ World3D worldAlongPath(const Motion6Dof& motion, bool car, std::uint64_t seed) {
   double along = 0;
   for (std::size_t k = 0; k < path.poses.size(); ++k) {
     const Eigen::Vector3d c = path.poses[k].translation();
+    // A path of one pose (a motion that never moves) has no direction: no world along it.
     const Eigen::Vector3d fwd = k + 1 < path.poses.size() ? Eigen::Vector3d(path.poses[k + 1].translation() - c)
-                                                          : Eigen::Vector3d(c - path.poses[k - 1].translation());
+                                : k > 0                   ? Eigen::Vector3d(c - path.poses[k - 1].translation())
+                                                          : Eigen::Vector3d::Zero();
     Eigen::Vector3d side(-fwd.y(), fwd.x(), 0);
     if (side.norm() < 1e-9) continue;
     side.normalize();

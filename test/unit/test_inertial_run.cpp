@@ -174,7 +174,7 @@ TEST(InertialRun, EachRadarKeepsItsOwnAccuracy) {
   for (std::uint16_t id = 0; id < 3; ++id) EXPECT_EQ(given.accuracyOf(id).range_sigma, 0.3) << id;
 
   // In a run, the detections handed to the step's callback (body frame) carry their radar's.
-  const sim::Motion6Dof motion(test::curveDrive(3));
+  const sim::Motion6Dof motion(test::curveDrive(8));  // still 3 s, then 5 s moving
   const sim::World3D world = sim::worldAlongPath(motion, true, 5);
   Eigen::Isometry3d front = Eigen::Isometry3d::Identity(), rear = Eigen::Isometry3d::Identity();
   front.translation() = Eigen::Vector3d(2.0, 0.3, 0.5);

@@ -112,9 +112,9 @@ Eigen::Vector3d gyroAt(const std::vector<ImuSample>& imu, double t) {
   return std::prev(it)->gyro;
 }
 
-/// The sweeps of cycle k of `cycles`, every radar's, grouped by their recorded time (time order,
-/// the groups' sweeps in radar order); none when the cycle is unreadable (said in `r`). `radars`
-/// collects the radars met.
+/// The sweeps of cycle k of `cycles`, every radar's, as `sweepsByTime` groups them: one group for
+/// the cycle when `merge`, else one a recorded time (time order, the groups' sweeps in radar order);
+/// none when the cycle is unreadable (said in `r`). `radars` collects the radars met.
 std::vector<std::vector<RadarSweepData>> loadSweeps(const RadarCycleSource& cycles, std::size_t k, bool merge,
                                                     InertialRunResult& r, std::set<std::uint16_t>& radars) {
   std::vector<std::string> problems;

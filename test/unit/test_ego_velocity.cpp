@@ -120,6 +120,54 @@ TEST(EgoVelocity, OneRadarFallsBackToTheNonholonomicModel) {
   EXPECT_NEAR(f.velocity.y(), 0.3, 0.05);
 }
 
+TEST(EgoVelocity, ARadarOnTheRearAxleLineGivesTheForwardSpeedAlone) {
+  // At mx = 0 (Snail-Radar's ARS548 at the base frame's origin) the nonholonomic rows' ω column is
+  // the vx column times −my: the radar sees vx − ω my and nothing of ω. The fit must give that
+  // speed, valid, with ω unknown, rather than refuse every cycle.
+  const Eigen::Vector3d v(8.0, 0.0, 0.2);
+  for (const double my : {0.0, 0.6}) {
+    const SensorMounting radar{0.05, my, -0.05, true};
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> az(-1.0, 1.0), range(5.0, 80.0);
+    std::normal_distribution<double> noise(0.0, 0.05);
+    pcl::PointCloud<PointRadar> cloud;
+    for (int i = 0; i < 150; ++i) {
+      const double a = az(rng), r = range(rng);
+      PointRadar p(static_cast<float>(radar.x + r * std::cos(a)), static_cast<float>(radar.y + r * std::sin(a)), 0.f);
+      p.sensor_id = 0;
+      // The truth: the radar at (0.05, my) moving with (vx, 0) + ω × m.
+      const double rate = -(std::cos(a) * (v.x() - v.z() * my) + std::sin(a) * v.z() * radar.x);
+      p.doppler = static_cast<float>(rate + noise(rng) + (i < 30 ? 3.0 : 0.0));
+      cloud.push_back(p);
+    }
+    std::vector<bool> inlier;
+    const EgoVelocity e = EgoVelocityEstimator().estimate(cloud, {radar}, &inlier);
+    ASSERT_TRUE(e.valid) << "my " << my;
+    EXPECT_TRUE(e.nonholonomic && e.forward_only);
+    EXPECT_NEAR(e.velocity.x(), v.x() - v.z() * my, 0.05) << "my " << my;
+    EXPECT_EQ(e.velocity.y(), 0.0);
+    EXPECT_EQ(e.velocity.z(), 0.0);
+    EXPECT_NEAR(e.covariance(2, 2), 1.0, 1e-12) << "ω unknown";
+    EXPECT_NEAR(e.covariance(0, 2), my, 1e-12) << "vx = u + ω my";
+    EXPECT_LT(e.covariance(0, 0) - my * my, 1e-3);
+    for (int i = 0; i < 30; ++i) EXPECT_FALSE(inlier[static_cast<std::size_t>(i)]) << i;
+  }
+  // Off the axle's line the yaw rate is fitted as before.
+  const SensorMounting off{0.5, 0.0, 0.0, true};
+  pcl::PointCloud<PointRadar> cloud;
+  for (int i = 0; i < 60; ++i) {
+    const double a = -1.0 + i / 30.0;
+    PointRadar p(static_cast<float>(off.x + 20 * std::cos(a)), static_cast<float>(20 * std::sin(a)), 0.f);
+    p.sensor_id = 0;
+    p.doppler = static_cast<float>(predictedDoppler(off, p.x, p.y, v));
+    cloud.push_back(p);
+  }
+  const EgoVelocity e = EgoVelocityEstimator().estimate(cloud, {off});
+  ASSERT_TRUE(e.valid);
+  EXPECT_FALSE(e.forward_only);
+  EXPECT_NEAR(e.velocity.z(), 0.2, 1e-3);
+}
+
 TEST(EgoVelocity, RealSweepsAgreeWithGroundTruthSpeed) {
   // All radars of each cycle (the full model), and the front radar alone (the nonholonomic one).
   const std::string root = std::string(RADAR_NDT_SHARED_DATA) + "/nuscenes-mini-radar";

@@ -119,6 +119,9 @@ std::string summaryJson(const AutomotiveRunResult& r, const EvaluationReport* me
   addStepCounts(j, c);
   j["invalid_velocity_cycles"] = r.invalid_velocity_cycles;
   j["nonholonomic_velocity_cycles"] = r.nonholonomic_velocity_cycles;
+  // Only when it happens: a radar on the rear axle's line is rare, and every other run's report
+  // keeps its keys.
+  if (r.forward_speed_cycles > 0) j["forward_speed_cycles"] = r.forward_speed_cycles;
   j["problems"] = r.problems.size();  // radars gone silent, unreadable sweeps
   j["detections"] = r.detections;
   j["removed_moving"] = r.removed_moving;
@@ -171,10 +174,16 @@ std::string summaryText(const AutomotiveRunResult& r) {
       "  %zu detections, %.1f %% removed as moving; Doppler fit residual %.3f m/s (median), %zu cycles without a valid "
       "ego-velocity\n",
       r.detections, percent(r.removed_moving, r.detections), r.median_doppler_residual, r.invalid_velocity_cycles);
-  if (r.nonholonomic_velocity_cycles > 0)
+  const std::size_t with_rate = r.nonholonomic_velocity_cycles - r.forward_speed_cycles;
+  if (with_rate > 0)
     s +=
         format("  ego-velocity with vy = 0 (radars at one place: yaw rate from the single-radar model) in %zu cycles\n",
-               r.nonholonomic_velocity_cycles);
+               with_rate);
+  if (r.forward_speed_cycles > 0)
+    s += format(
+        "  ego-velocity with vy = 0 and the forward speed alone (radars on the rear axle's line: the yaw rate left to "
+        "the match) in %zu cycles\n",
+        r.forward_speed_cycles);
   s += format(
       "  ms per cycle (median): read %.2f, front-end %.2f, submap %.2f, match %.2f, total %.2f (%.0fx real time)\n",
       r.median_ms.read_ms, r.median_ms.front_end_ms, r.median_ms.submap_ms, r.median_ms.match_ms, r.median_total_ms,

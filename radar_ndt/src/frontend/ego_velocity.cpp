@@ -27,6 +27,10 @@ bool modelRow(const SensorMounting& m, double px, double py, Eigen::Vector3d& a)
 constexpr double kDopplerFloor = 0.03;
 /// vy's variance under the nonholonomic model when no lateral σ is set: (1 m/s)², i.e. unknown.
 constexpr double kFreeLateral = 1.0;
+/// ω's variance when the radars cannot see it (the forward-speed fit): (1 rad/s)², i.e. unknown.
+constexpr double kFreeYawRate = 1.0;
+/// Radars closer than this (m) sit at one place: they see one velocity.
+constexpr double kOnePlace = 0.2;
 
 /// The MSAC cost of x over all rows: squared residuals of the inliers, thr² for each outlier (ties
 /// between equal counts go to the tighter fit); and the inlier count.
@@ -188,7 +192,31 @@ bool needsNonholonomic(const EgoVelocityOptions& o, const std::vector<SensorMoun
     for (std::size_t b = a + 1; b < mountings.size(); ++b)
       if (enough(a) && enough(b))
         spread = std::max(spread, std::hypot(mountings[a].x - mountings[b].x, mountings[a].y - mountings[b].y));
-  return spread < 0.2;
+  return spread < kOnePlace;
+}
+
+/// Under vy = 0 a radar at (mx, my) sees the forward speed vx − ω my alone when mx = 0: the
+/// Kellner 2013 rows' ω column, mx sin φ − my cos φ, is then the vx column times −my. True (and
+/// `my` the radars' mean lateral offset) when every radar with enough detections (or, with none,
+/// every one with any) sits at one place within kOnePlace of the rear axle's line (x = 0).
+bool yawRateUnseen(const EgoVelocityOptions& o, const std::vector<SensorMounting>& mountings,
+                   const std::vector<std::size_t>& per_sensor, double& my) {
+  std::size_t most = 0;
+  for (std::size_t n : per_sensor) most = std::max(most, n);
+  const std::size_t needed = most >= o.min_inliers ? o.min_inliers : 1;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo, sum = 0;
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < mountings.size(); ++k) {
+    if (per_sensor[k] < needed) continue;
+    if (!(std::abs(mountings[k].x) < kOnePlace)) return false;
+    lo = std::min(lo, mountings[k].y);
+    hi = std::max(hi, mountings[k].y);
+    sum += mountings[k].y;
+    ++count;
+  }
+  if (count == 0 || hi - lo >= kOnePlace) return false;
+  my = sum / static_cast<double>(count);
+  return true;
 }
 
 /// vy = 0: the rows keep the vx and ω columns. The velocity and its unscaled covariance.
@@ -209,6 +237,26 @@ bool fitNonholonomic(const std::vector<Eigen::Vector3d>& rows, const std::vector
   out.covariance(0, 0) = C(0, 0);
   out.covariance(0, 2) = out.covariance(2, 0) = C(0, 1);
   out.covariance(2, 2) = C(1, 1);
+  return true;
+}
+
+/// vy = 0 and the radars on the rear axle's line (yawRateUnseen): the forward speed u = vx − ω my
+/// alone, the rows' vx column. ω is left to the match: reported 0 with variance kFreeYawRate, and vx
+/// = u + ω my correlated with it. The velocity and its unscaled covariance (vx's part from u).
+bool fitForwardSpeed(const std::vector<Eigen::Vector3d>& rows, const std::vector<double>& rhs,
+                     const EgoVelocityOptions& o, EgoVelocity& out, std::vector<char>& in, double& rss) {
+  std::vector<Eigen::Matrix<double, 1, 1>> rows1;
+  rows1.reserve(rows.size());
+  for (const auto& a : rows) rows1.emplace_back(a.x());
+  Eigen::Matrix<double, 1, 1> x;
+  Eigen::Matrix<double, 1, 1> AtA;
+  if (!fitDoppler<1>(
+          rows1, rhs, o, [](const Eigen::Matrix<double, 1, 1>& y) { return Eigen::Vector3d(y(0), 0.0, 0.0); }, -1, 0.0,
+          &x, &AtA, &in, &rss))
+    return false;
+  out.velocity = Eigen::Vector3d(x(0), 0.0, 0.0);
+  out.covariance.setZero();
+  out.covariance(0, 0) = 1.0 / AtA(0, 0);
   return true;
 }
 
@@ -252,13 +300,16 @@ EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cl
   out.points = n;
   const bool nonholonomic = needsNonholonomic(options_, mountings, per_sensor);
   out.nonholonomic = nonholonomic;
-  const std::size_t dims = nonholonomic ? 2 : 3;
+  double my = 0;
+  out.forward_only = nonholonomic && yawRateUnseen(options_, mountings, per_sensor, my);
+  const std::size_t dims = out.forward_only ? 1 : nonholonomic ? 2 : 3;
   if (n < std::max(dims, options_.min_inliers)) return out;
 
   std::vector<char> in;
   double rss = 0;
-  const bool fitted =
-      nonholonomic ? fitNonholonomic(rows, rhs, options_, out, in, rss) : fitFull(rows, rhs, options_, out, in, rss);
+  const bool fitted = out.forward_only ? fitForwardSpeed(rows, rhs, options_, out, in, rss)
+                      : nonholonomic   ? fitNonholonomic(rows, rhs, options_, out, in, rss)
+                                       : fitFull(rows, rhs, options_, out, in, rss);
   if (!fitted) return out;
   std::size_t m_final = 0;
   for (std::size_t i = 0; i < n; ++i) m_final += in[i] != 0;
@@ -271,6 +322,11 @@ EgoVelocity EgoVelocityEstimator::estimate(const pcl::PointCloud<PointRadar>& cl
   out.covariance *= sigma2;
   if (nonholonomic)
     out.covariance(1, 1) = options_.lateral_sigma > 0 ? options_.lateral_sigma * options_.lateral_sigma : kFreeLateral;
+  if (out.forward_only) {
+    out.covariance(0, 0) += my * my * kFreeYawRate;
+    out.covariance(0, 2) = out.covariance(2, 0) = my * kFreeYawRate;
+    out.covariance(2, 2) = kFreeYawRate;
+  }
   out.valid = m_final >= options_.min_inliers &&
               static_cast<double>(m_final) >= options_.min_inlier_ratio * static_cast<double>(n) &&
               out.covariance.allFinite();

@@ -93,6 +93,7 @@ void countFrontEnd(const ProcessedCycle& processed, AutomotiveRunResult& result,
   if (processed.ego.valid) {
     samples.residual.push_back(processed.ego.residual_rms);
     if (processed.ego.nonholonomic) ++result.nonholonomic_velocity_cycles;
+    if (processed.ego.forward_only) ++result.forward_speed_cycles;
   } else {
     ++result.invalid_velocity_cycles;
   }

@@ -15,7 +15,9 @@
 // vehicle does not slide sideways at the vehicle frame's origin (vy = 0; nuScenes' ego frame is the
 // rear axle's midpoint, where that holds for a car off the limit), leaving
 //   v_r = −[cos φ, mx sin φ − my cos φ] · [vx, ω]ᵀ,
-// solvable when the radar sits off the rear axle (mx ≠ 0).
+// solvable when the radar sits off the rear axle (mx ≠ 0). On the rear axle's line (mx = 0: a radar
+// at the base frame's origin, as Snail-Radar's ARS548) it sees only its forward speed vx − ω my;
+// the fit then gives that alone and leaves ω unknown, for the matcher to find.
 
 #include <cstdint>
 #include <string>
@@ -57,6 +59,9 @@ struct EgoVelocity {
   /// The fit used vy = 0 (EgoVelocityModel::Nonholonomic, chosen or forced); vy's variance is then
   /// EgoVelocityOptions::lateral_sigma², uncorrelated.
   bool nonholonomic = false;
+  /// Nonholonomic with the radars on the rear axle's line (|mx| < 0.2 m, at one place): the fit gave
+  /// the forward speed alone; ω is 0 with variance (1 rad/s)², i.e. unknown.
+  bool forward_only = false;
 };
 
 /// Doppler a stationary point at (px, py) (vehicle frame) shows to the sensor `m` when the vehicle

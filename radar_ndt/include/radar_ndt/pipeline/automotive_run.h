@@ -75,6 +75,9 @@ struct AutomotiveRunResult {
   std::size_t invalid_velocity_cycles = 0;
   /// Cycles whose ego-velocity used vy = 0 (radars at one place only: EgoVelocityModel::Auto).
   std::size_t nonholonomic_velocity_cycles = 0;
+  /// Of those, cycles whose radars sat on the rear axle's line: the forward speed alone, the yaw
+  /// rate left to the match (EgoVelocity::forward_only).
+  std::size_t forward_speed_cycles = 0;
   std::size_t detections = 0;          ///< after the reader's filters, all cycles
   std::size_t removed_moving = 0;      ///< by the Doppler outlier filter
   double median_doppler_residual = 0;  ///< median over cycles of the ego-velocity fit's inlier RMS (m/s)

@@ -124,7 +124,9 @@ void bindAutomotiveFrontEnd(py::module_& m) {
       .def_readonly("inliers", &EgoVelocity::inliers, "detections consistent with it (stationary)")
       .def_readonly("residual_rms", &EgoVelocity::residual_rms)
       .def_readonly("valid", &EgoVelocity::valid, "bool: False for too few or degenerate detections")
-      .def_readonly("nonholonomic", &EgoVelocity::nonholonomic);
+      .def_readonly("nonholonomic", &EgoVelocity::nonholonomic, "bool: the fit took vy = 0 (radars at one place)")
+      .def_readonly("forward_only", &EgoVelocity::forward_only,
+                    "bool: the radars sat on the rear axle's line: the forward speed alone, the yaw rate unknown");
   py::class_<ProcessedCycle>(
       m, "ProcessedCycle",
       "A cycle after the automotive front-end: one planar cloud in the vehicle frame at the reference time.")

@@ -100,8 +100,12 @@ TEST_P(Radar4DSimBag, IsReadBackThroughItsDriversPresetAsWritten) {
       EXPECT_FLOAT_EQ(p.y, q.y);
       EXPECT_FLOAT_EQ(p.z, q.z);
       EXPECT_FLOAT_EQ(p.doppler, q.doppler) << "point " << i << " of scan " << k;  // positive receding again
-      if (!d.radars[0].fields.power.empty()) EXPECT_FLOAT_EQ(p.power, q.power);
-      if (!d.radars[0].fields.rcs.empty()) EXPECT_FLOAT_EQ(p.rcs, q.rcs);
+      if (!d.radars[0].fields.power.empty()) {
+        EXPECT_FLOAT_EQ(p.power, q.power);
+      }
+      if (!d.radars[0].fields.rcs.empty()) {
+        EXPECT_FLOAT_EQ(p.rcs, q.rcs);
+      }
     }
   }
   // The IMU was written in its described axes: turned back into the base frame, the left turn.
@@ -285,7 +289,7 @@ TEST(Radar4DSimBag, TheSixDofRunReadsASimulatedBag) {
   ros1::registerBagReader();
   const RunSource source{"rosbag", path, "", "", sensors};
   auto runWith = [&](const std::string& method, bool imu) {
-    const OdometryRun run(source, {{"matcher.method", FieldValue(method)}, {"imu", FieldValue(imu)}});
+    const OdometryRun run(source, {{"matcher.method", FieldValue(method), ""}, {"imu", FieldValue(imu), ""}});
     EXPECT_EQ(run.pipeline(), PipelineKind::Inertial);
     EXPECT_TRUE(run.hasGroundTruth());
     return run.runInertial();
@@ -307,19 +311,21 @@ TEST(Radar4DSimBag, TheSixDofRunReadsASimulatedBag) {
     // Radar only, roll and pitch drift (the Eagle's elevation is coarse, no gravity holds them):
     // its position within 3 % of the drive, the rotation bounded only fused.
     EXPECT_LT(e.report.ate_posyaw->rmse_m, imu ? 1.0 : 0.03 * length);
-    if (imu) EXPECT_LT(e.report.ate_posyaw->rot_rmse_deg, 1.0);
+    if (imu) {
+      EXPECT_LT(e.report.ate_posyaw->rot_rmse_deg, 1.0);
+    }
   }
   // Each detection's accuracy: the description's spherical_accuracy, the settings given over it.
-  const OdometryRun described(source, {{"matcher.method", FieldValue("pw-ndt-3d")}});
+  const OdometryRun described(source, {{"matcher.method", FieldValue("pw-ndt-3d"), ""}});
   EXPECT_EQ(described.inertialOptions().accuracy.azimuth_sigma_deg, d.radars[0].fields.spherical->azimuth_deg);
   EXPECT_EQ(described.inertialOptions().accuracy.elevation_sigma_deg, 1.0);
   const OdometryRun given(
-      source, {{"matcher.method", FieldValue("pw-ndt-3d")}, {"accuracy.elevation_sigma_deg", FieldValue(4.0)}});
+      source, {{"matcher.method", FieldValue("pw-ndt-3d"), ""}, {"accuracy.elevation_sigma_deg", FieldValue(4.0), ""}});
   EXPECT_EQ(given.inertialOptions().accuracy.elevation_sigma_deg, 4.0);
   EXPECT_EQ(given.inertialOptions().accuracy.azimuth_sigma_deg, d.radars[0].fields.spherical->azimuth_deg);
-  EXPECT_THROW(OdometryRun(source, {{"matcher.method", FieldValue("doppler-imu")}}), std::invalid_argument);
+  EXPECT_THROW(OdometryRun(source, {{"matcher.method", FieldValue("doppler-imu"), ""}}), std::invalid_argument);
   try {
-    OdometryRun(source, {{"matcher.method", FieldValue("pw-ndt-3d")}, {"matcher.grid", FieldValue(2.0)}});
+    OdometryRun(source, {{"matcher.method", FieldValue("pw-ndt-3d"), ""}, {"matcher.grid", FieldValue(2.0), ""}});
     ADD_FAILURE() << "a setting of the automotive pipeline was taken";
   } catch (const SettingError& e) {
     EXPECT_NE(std::string(e.what()).find("automotive"), std::string::npos) << e.what();

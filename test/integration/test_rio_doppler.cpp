@@ -191,12 +191,12 @@ TEST(Rosbag, RadarInertialOdometryOnTheRioBag) {
   const std::vector<ImuSample> imu = readImu();
   const SphericalAccuracy accuracy = sim::radar4DPreset("ti_iwr6843_rio").accuracy;
   for (const bool fused : {true, false}) {
-    const Settings given{{"matcher.method", FieldValue(std::string("pw-ndt-3d"))},
-                         {"imu", FieldValue(fused)},
-                         {"radar_latency", FieldValue(0.125)},
-                         {"accuracy.range_sigma", FieldValue(accuracy.range_sigma)},
-                         {"accuracy.azimuth_sigma_deg", FieldValue(accuracy.azimuth_sigma_deg)},
-                         {"accuracy.elevation_sigma_deg", FieldValue(accuracy.elevation_sigma_deg)}};
+    const Settings given{{"matcher.method", FieldValue(std::string("pw-ndt-3d")), ""},
+                         {"imu", FieldValue(fused), ""},
+                         {"radar_latency", FieldValue(0.125), ""},
+                         {"accuracy.range_sigma", FieldValue(accuracy.range_sigma), ""},
+                         {"accuracy.azimuth_sigma_deg", FieldValue(accuracy.azimuth_sigma_deg), ""},
+                         {"accuracy.elevation_sigma_deg", FieldValue(accuracy.elevation_sigma_deg), ""}};
     const OdometryRun run({"rosbag", kRioBag, "", "", "preset:ti_iwr6843_rio"}, given);
     ASSERT_EQ(run.pipeline(), PipelineKind::Inertial);
     const InertialRunResult result = run.runInertial();

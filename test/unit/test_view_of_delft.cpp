@@ -25,7 +25,7 @@ std::string writeLayout(const std::string& name, int frames, double speed) {
   fs::remove_all(root);
   for (const char* d : {"velodyne", "calib", "pose"}) fs::create_directories(root / "radar" / "training" / d);
   for (int f = 0; f < frames; ++f) {
-    char id[8];
+    char id[16];  // any int fits (GCC checks the type, not the loop)
     std::snprintf(id, sizeof id, "%05d", 100 + f);
     pcl::PointCloud<PointRadar4D> cloud;
     std::vector<float> compensated;

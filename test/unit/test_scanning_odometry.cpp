@@ -152,7 +152,7 @@ TEST(ScanningOdometry, AFailedMatchClimbsTheLadderThenFallsBackToTheConstantVelo
   std::vector<RecordingNdt::Call> ladder;
   for (const float s : {kShift, 0.5f * kShift})
     for (double g = kScanningGrid;; g += o.grid_step) {
-      ladder.push_back({static_cast<float>(g), s});
+      ladder.push_back({static_cast<float>(g), s, false, 0.0, Eigen::Vector3d::Zero()});  // grid and shift compared
       if (g > o.max_grid) break;
     }
   const int bad = 5;

@@ -21,6 +21,28 @@ using namespace radar_ndt;
 using test::makeCycle;
 using test::nuScenesLikeMountings;
 
+namespace {
+
+/// n stationary detections of one radar at `m`, bearings within ±half_fov and 5-80 m, their
+/// Doppler as the vehicle's motion `v` shows them with 5 cm/s noise; the first 30 moving (+3 m/s).
+pcl::PointCloud<PointRadar> oneRadarCloud(const SensorMounting& m, const Eigen::Vector3d& v, unsigned seed, int n,
+                                          double half_fov) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> az(-half_fov, half_fov), range(5.0, 80.0);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  pcl::PointCloud<PointRadar> cloud;
+  for (int i = 0; i < n; ++i) {
+    const double a = az(rng), r = range(rng);
+    PointRadar p(static_cast<float>(m.x + r * std::cos(a)), static_cast<float>(m.y + r * std::sin(a)), 0.f);
+    p.sensor_id = 0;
+    p.doppler = static_cast<float>(predictedDoppler(m, p.x, p.y, v) + noise(rng) + (i < 30 ? 3.0 : 0.0));
+    cloud.push_back(p);
+  }
+  return cloud;
+}
+
+}  // namespace
+
 TEST(EgoVelocity, PredictedDopplerSigns) {
   const SensorMounting front{3.4, 0.0, 0.0, true};
   // Driving forward at 10 m/s, a stationary target straight ahead approaches: −10 m/s.
@@ -86,17 +108,7 @@ TEST(EgoVelocity, OneRadarFallsBackToTheNonholonomicModel) {
   // so rather than guess. With vy = 0 at the vehicle origin (Kellner 2013), (vx, ω) is recovered.
   const SensorMounting front{3.41, 0.0, 0.0, true};
   const Eigen::Vector3d v(8.0, 0.0, 0.2);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> az(-0.8, 0.8), range(5.0, 80.0);
-  std::normal_distribution<double> noise(0.0, 0.05);
-  pcl::PointCloud<PointRadar> cloud;
-  for (int i = 0; i < 120; ++i) {
-    const double a = az(rng), r = range(rng);
-    PointRadar p(static_cast<float>(front.x + r * std::cos(a)), static_cast<float>(front.y + r * std::sin(a)), 0.f);
-    p.sensor_id = 0;
-    p.doppler = static_cast<float>(predictedDoppler(front, p.x, p.y, v) + noise(rng) + (i < 30 ? 3.0 : 0.0));
-    cloud.push_back(p);
-  }
+  const pcl::PointCloud<PointRadar> cloud = oneRadarCloud(front, v, 5, 120, 0.8);
   EgoVelocityEstimator est;
   std::vector<bool> inlier;
   const EgoVelocity e = est.estimate(cloud, {front}, &inlier);
@@ -127,19 +139,7 @@ TEST(EgoVelocity, ARadarOnTheRearAxleLineGivesTheForwardSpeedAlone) {
   const Eigen::Vector3d v(8.0, 0.0, 0.2);
   for (const double my : {0.0, 0.6}) {
     const SensorMounting radar{0.05, my, -0.05, true};
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<double> az(-1.0, 1.0), range(5.0, 80.0);
-    std::normal_distribution<double> noise(0.0, 0.05);
-    pcl::PointCloud<PointRadar> cloud;
-    for (int i = 0; i < 150; ++i) {
-      const double a = az(rng), r = range(rng);
-      PointRadar p(static_cast<float>(radar.x + r * std::cos(a)), static_cast<float>(radar.y + r * std::sin(a)), 0.f);
-      p.sensor_id = 0;
-      // The truth: the radar at (0.05, my) moving with (vx, 0) + ω × m.
-      const double rate = -(std::cos(a) * (v.x() - v.z() * my) + std::sin(a) * v.z() * radar.x);
-      p.doppler = static_cast<float>(rate + noise(rng) + (i < 30 ? 3.0 : 0.0));
-      cloud.push_back(p);
-    }
+    const pcl::PointCloud<PointRadar> cloud = oneRadarCloud(radar, v, 7, 150, 1.0);
     std::vector<bool> inlier;
     const EgoVelocity e = EgoVelocityEstimator().estimate(cloud, {radar}, &inlier);
     ASSERT_TRUE(e.valid) << "my " << my;

@@ -176,11 +176,12 @@ std::string writeBag(const Sim4DRequest& r, const sim::Radar4DSequence& seq, con
 }  // namespace
 
 std::string sensorPresetFor(const std::string& radar_preset) {
-  if (radar_preset == "ti_iwr6843_rio") return "ti_iwr6843_rio";
-  if (radar_preset == "ars548") return "snail_radar_ars548";
-  if (radar_preset == "oculii_eagle") return "ntu4dradlm_eagle";
-  throw std::invalid_argument("--preset must be one of ti_iwr6843_rio, ars548, oculii_eagle, not '" + radar_preset +
-                              "'");
+  try {
+    return sim::radar4DSensorPreset(radar_preset);
+  } catch (const std::invalid_argument&) {
+    throw std::invalid_argument("--preset must be one of ti_iwr6843_rio, ars548, oculii_eagle, not '" + radar_preset +
+                                "'");
+  }
 }
 
 void writeSequence4D(const Sim4DRequest& r) {

@@ -212,6 +212,14 @@ std::vector<std::string> radar4DPresetNames() {
   return {"ti_iwr6843_rio", "ars548", "oculii_eagle"};
 }
 
+std::string radar4DSensorPreset(const std::string& preset) {
+  if (preset == "ti_iwr6843_rio") return "ti_iwr6843_rio";
+  if (preset == "ars548") return "snail_radar_ars548";
+  if (preset == "oculii_eagle") return "ntu4dradlm_eagle";
+  throw std::invalid_argument("radar4DSensorPreset: unknown preset '" + preset +
+                              "' (ti_iwr6843_rio, ars548, oculii_eagle)");
+}
+
 pcl::PointCloud<PointRadar4D> simulateScan4D(const World3D& world, const Pose3& pose, const Eigen::Vector3d& velocity,
                                              const Radar4DModel& m, std::uint64_t seed, std::uint64_t stream) {
   Random rng(seed, stream);

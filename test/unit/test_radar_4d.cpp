@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "radar_ndt/io/sensor_description.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/sim/radar_4d.h"
 
@@ -14,6 +15,22 @@ using namespace radar_ndt::sim;
 TEST(Radar4D, PresetsAndUnknownNames) {
   for (const auto& name : radar4DPresetNames()) EXPECT_EQ(radar4DPreset(name).name, name);
   EXPECT_THROW(radar4DPreset("ars408"), std::invalid_argument);
+}
+
+// Each preset names the description its driver's recordings are read with, and that description's
+// point accuracy is the preset's (what the simulated bags and the 6-DoF table rely on).
+TEST(Radar4D, EachPresetIsReadWithItsSensorDescription) {
+  for (const std::string& name : radar4DPresetNames()) {
+    const SensorDescription d = readSensorDescription("preset:" + radar4DSensorPreset(name));
+    ASSERT_EQ(d.radars.size(), 1u) << name;
+    ASSERT_TRUE(d.radars[0].fields.spherical.has_value()) << name;
+    const SphericalAccuracy a = radar4DPreset(name).accuracy;
+    EXPECT_DOUBLE_EQ(d.radars[0].fields.spherical->range, a.range_sigma) << name;
+    EXPECT_DOUBLE_EQ(d.radars[0].fields.spherical->azimuth_deg, a.azimuth_sigma_deg) << name;
+    EXPECT_DOUBLE_EQ(d.radars[0].fields.spherical->elevation_deg, a.elevation_sigma_deg) << name;
+  }
+  EXPECT_EQ(radar4DSensorPreset("ars548"), "snail_radar_ars548");
+  EXPECT_THROW(radar4DSensorPreset("ars408"), std::invalid_argument);
 }
 
 TEST(Radar4D, ScanStaysInItsFieldOfViewWithDopplerOfTheSensorsMotion) {

@@ -73,6 +73,9 @@ struct Radar4DModel {
 /// The presets: "ti_iwr6843_rio", "ars548", "oculii_eagle"; std::invalid_argument otherwise.
 Radar4DModel radar4DPreset(const std::string& name);
 std::vector<std::string> radar4DPresetNames();
+/// The sensor description preset (config/sensors/) that reads a preset's recordings as its driver
+/// writes them: ti_iwr6843_rio, snail_radar_ars548, ntu4dradlm_eagle; std::invalid_argument otherwise.
+std::string radar4DSensorPreset(const std::string& preset);
 
 /// One scan from the sensor pose `pose` (sensor to world) moving with `velocity` (m/s, world
 /// frame): detections in the sensor frame with power 1, RCS, radial Doppler (positive receding)

@@ -300,11 +300,22 @@ std::pair<double, std::size_t> velocityError(const sim::Motion6Dof& motion, cons
   return {errors.empty() ? NAN : errors[errors.size() / 2], errors.size()};
 }
 
+/// `seq`'s scans as the preset's sensor description reads its driver's recordings: where the
+/// description maps no field to the power (Snail-Radar's ARS548 gives its RCS, read as RCS), every
+/// detection weighs the same, as it does when the simulated bag is read (radar_point_fields.h).
+void readAsDescribed(const std::string& preset, sim::Radar4DSequence& seq) {
+  const SensorDescription d = readSensorDescription("preset:" + sim::radar4DSensorPreset(preset));
+  if (!d.radars.front().fields.power.empty()) return;
+  for (auto& scan : seq.scans)
+    for (PointRadar4D& p : scan) p.power = 1.f;
+}
+
 void runCase(const Case& c, const std::vector<std::string>& methods, std::uint64_t seed, const std::string& write_dir) {
   const sim::Motion6Dof motion(c.trajectory);
   const sim::World3D world = sim::worldAlongPath(motion, c.car, seed);
-  const sim::Radar4DSequence seq =
+  sim::Radar4DSequence seq =
       sim::simulateRadar4DSequence(motion, world, sim::radar4DPreset(c.preset), c.rate, sim::imu6Preset(c.imu), seed);
+  readAsDescribed(c.preset, seq);
   if (c.imu == "mems") statistics_rows.push_back(scanStatistics(c, seq));
   const auto [velocity_error, valid] = velocityError(motion, seq);
   if (!write_dir.empty()) writeTum(write_dir + "/" + c.driver + "_" + c.preset + "_" + c.imu + "_truth.tum", seq.truth);

@@ -301,8 +301,9 @@ std::pair<double, std::size_t> velocityError(const sim::Motion6Dof& motion, cons
 }
 
 /// `seq`'s scans as the preset's sensor description reads its driver's recordings: where the
-/// description maps no field to the power (Snail-Radar's ARS548 gives its RCS, read as RCS), every
-/// detection weighs the same, as it does when the simulated bag is read (radar_point_fields.h).
+/// description maps no field to the power (the TI driver's intensity, an SNR, is not read as a
+/// weight; Snail-Radar's ARS548 gives only its RCS), every detection weighs the same, as it does
+/// when a recording is read (radar_point_fields.h).
 void readAsDescribed(const std::string& preset, sim::Radar4DSequence& seq) {
   const SensorDescription d = readSensorDescription("preset:" + sim::radar4DSensorPreset(preset));
   if (!d.radars.front().fields.power.empty()) return;

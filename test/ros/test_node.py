@@ -95,6 +95,18 @@ def wait_subscribed(env, wanted, timeout=60):
     pytest.fail(f"not subscribed within {timeout} s: {wanted}")
 
 
+def wait_closed(recorded, timeout=30):
+    """Waits until `rosbag record` has closed its bag. `rosbag` is a Python wrapper: on SIGINT it passes
+    the signal to its `record` process and returns at once, while `record` is still writing the
+    index into NAME.bag.active; it renames that to NAME.bag when it is done."""
+    active = recorded.with_name(recorded.name + ".active")
+    deadline = time.time() + timeout
+    while active.exists():
+        if time.time() > deadline:
+            pytest.fail(f"rosbag record did not close {active} within {timeout} s of SIGINT")
+        time.sleep(0.1)
+
+
 def run_node(env, work, bag, rate, name, *params, sensors="preset:nuscenes_ars408", topics=NUSCENES_TOPICS,
              period=None, plays=1, flush_after=1.0, connected=False):
     recorded = work / f"{name}.bag"
@@ -135,6 +147,7 @@ def run_node(env, work, bag, rate, name, *params, sensors="preset:nuscenes_ars40
     except subprocess.TimeoutExpired:
         node.kill()
         pytest.fail(f"the node did not stop within 30 s of SIGINT:\n{node.communicate()[0]}")
+    wait_closed(recorded)
     import rosbag
     if not recorded.exists():  # the recorder got nothing: the node's output says why
         pytest.fail(f"nothing recorded from the node ({name}):\n{out}")

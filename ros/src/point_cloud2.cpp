@@ -210,7 +210,8 @@ CloudColumns readCloudColumns(const sensor_msgs::PointCloud& cloud, const std::v
       continue;
     }
     if (name.size() > 1 && name[0] == '#' && name.find_first_not_of("0123456789", 1) == std::string::npos) {
-      const std::size_t index = std::stoul(name.substr(1));
+      // Digits past any real channel count name no channel (and would overflow stoul).
+      const std::size_t index = name.size() > 10 ? kAbsent : std::stoul(name.substr(1));
       if (index < cloud.channels.size()) source[k] = index;
       continue;
     }

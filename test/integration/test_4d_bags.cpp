@@ -12,6 +12,7 @@
 #include <sensor_msgs/PointCloud.h>
 
 #include "radar_ndt/io/sensor_description.h"
+#include "radar_ndt/ros/point_cloud2.h"
 #include "radar_ndt/ros/rosbag_sequence.h"
 
 using namespace radar_ndt;
@@ -98,4 +99,18 @@ TEST(Rosbag4D, AnImuWhoseGravityIsOnAnotherAxisThanDescribedIsSaid) {
   // Channels by name work as well as by position; the run goes on with the yaw rate as read.
   EXPECT_FLOAT_EQ(bag.load(0).sweeps[0].points[0].power, 10.f);
   EXPECT_NEAR(bag.vehicleSignals()->yaw_rate.values.front(), -0.2, 1e-6);
+}
+
+TEST(Rosbag4D, ChannelsByPositionBeyondTheMessageAreAbsent) {
+  sensor_msgs::PointCloud c;
+  c.points.resize(2);
+  c.channels.resize(1);
+  c.channels[0].name = "Doppler";
+  c.channels[0].values = {-1.f, 2.f};
+  const ros1::CloudColumns cols = ros1::readCloudColumns(c, {"#0", "#1", "#99999999999999999999999", "#", "z"});
+  EXPECT_EQ(cols.present, (std::vector<char>{1, 0, 0, 0, 1}));
+  EXPECT_EQ(cols.table[0], -1.0);
+  EXPECT_EQ(cols.table[5], 2.0);
+  c.channels[0].values.pop_back();
+  EXPECT_THROW(ros1::readCloudColumns(c, {"#0"}), std::invalid_argument);
 }

@@ -15,7 +15,7 @@ cd "$(dirname "$0")/../.."
 seconds=${1:-60}
 shift || true
 all=(fuzz_polar_png fuzz_nuscenes_pcd fuzz_nuscenes_tables fuzz_trajectory fuzz_oxford_odometry_csv fuzz_sequence_index
-     fuzz_sensor_description)
+     fuzz_sensor_description fuzz_view_of_delft fuzz_motion_sensors)
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 data=../shared/data
@@ -72,6 +72,15 @@ if [ -d "$data" ]; then
       "$tables/$t.json" "$out/$t.json"
     prefixed $k "$out/$t.json" "$seeds/fuzz_nuscenes_tables/real_$t.json"; rm "$out/$t.json"; k=$((k+1))
   done
+  # The first messages of a real scene's CAN bus files: ms_imu (yaw rate, 6-axis) and the wheels.
+  for t in ms_imu zoe_veh_info; do
+    python3 -c "import json,sys; json.dump(json.load(open(sys.argv[1]))[:20], open(sys.argv[2],'w'), indent=1)" \
+      "$data/nuscenes-mini-radar/can_bus/scene-0061_$t.json" "$out/$t.json"
+  done
+  prefixed 1 "$out/ms_imu.json" "$seeds/fuzz_motion_sensors/real_ms_imu_yaw.json"
+  prefixed 3 "$out/ms_imu.json" "$seeds/fuzz_motion_sensors/real_ms_imu.json"
+  prefixed 2 "$out/zoe_veh_info.json" "$seeds/fuzz_motion_sensors/real_zoe_veh_info.json"
+  rm "$out/ms_imu.json" "$out/zoe_veh_info.json"
   for f in "$data"/oxford-radar-gt/*.txt; do
     head -40 "$f" > "$out/gt.txt"
     prefixed 0 "$out/gt.txt" "$seeds/fuzz_trajectory/$(basename "$f" .txt)_auto.txt"
@@ -98,6 +107,9 @@ else
   echo "fuzz: $data is absent: seeds from the simulator and built-in tables only" >&2
 fi
 prefixed 2 test/data/demo_gt.txt "$seeds/fuzz_trajectory/demo_tum.txt"
+# View-of-Delft's three files as its devkit lays them out, and a Boreas applanix/imu.csv as the
+# released files lay it out (no real one is in ../shared/data); real nuScenes CAN bus files above.
+python3 test/fuzz/motion_seeds.py "$seeds"
 mkdir -p "$seeds/fuzz_sensor_description"
 cp config/sensors/*.yaml "$seeds/fuzz_sensor_description/"
 prefixed 0 test/data/demo_gt.txt "$seeds/fuzz_trajectory/demo_auto.txt"

@@ -164,6 +164,22 @@ class PathClearance {
   std::unordered_multimap<std::uint64_t, Eigen::Vector3d> cells_;
 };
 
+/// The path's points, then on straight past its end along its last heading, every 0.5 m for
+/// `beyond` m: the world goes on as far as the radar looks ahead (a street, a corridor), or a rig
+/// that stops at the end would face nothing but false alarms. After the path's own points, so
+/// those draw the same random numbers as without. A path of one point gets none.
+std::vector<Eigen::Vector3d> centresPastTheEnd(const std::vector<Eigen::Isometry3d>& poses, double beyond) {
+  std::vector<Eigen::Vector3d> out;
+  for (const auto& p : poses) out.push_back(p.translation());
+  if (poses.size() < 2) return out;
+  Eigen::Vector3d heading = out.back() - out[out.size() - 2];
+  heading.z() = 0;
+  const Eigen::Vector3d end = out.back();
+  for (double d = 0.5; d <= beyond; d += 0.5)
+    out.push_back(heading.norm() < 1e-9 ? end : Eigen::Vector3d(end + d * heading.normalized()));
+  return out;
+}
+
 }  // namespace
 
 World3D worldAlongPath(const Motion6Dof& motion, bool car, std::uint64_t seed) {
@@ -172,13 +188,15 @@ World3D worldAlongPath(const Motion6Dof& motion, bool car, std::uint64_t seed) {
   const PathClearance path(motion);
   auto clear = [&](const Eigen::Vector3d& c, double margin) { return path.clear(c, margin); };
   const double below = car ? 1.5 : 1.2, above = car ? 0 : 1.6;
+  const std::vector<Eigen::Vector3d> centres = centresPastTheEnd(path.poses, car ? 100.0 : 15.0);
+  const std::size_t n = path.poses.size();
   double along = 0;
-  for (std::size_t k = 0; k < path.poses.size(); ++k) {
-    const Eigen::Vector3d c = path.poses[k].translation();
+  for (std::size_t k = 0; k < centres.size(); ++k) {
+    const Eigen::Vector3d c = centres[k];
     // A path of one pose (a motion that never moves) has no direction: no world along it.
-    const Eigen::Vector3d fwd = k + 1 < path.poses.size() ? Eigen::Vector3d(path.poses[k + 1].translation() - c)
-                                : k > 0                   ? Eigen::Vector3d(c - path.poses[k - 1].translation())
-                                                          : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d fwd = k + 1 < n ? Eigen::Vector3d(centres[k + 1] - c)
+                                : k > 0   ? Eigen::Vector3d(c - centres[k - 1])
+                                          : Eigen::Vector3d::Zero();
     Eigen::Vector3d side(-fwd.y(), fwd.x(), 0);
     if (side.norm() < 1e-9) continue;
     side.normalize();

@@ -109,8 +109,8 @@ double ateOf(const InertialRunResult& r, const sim::Motion6Dof& motion) {
 // A rig of two radars, a forward one and one looking back from the rear: every sweep of both runs,
 // each through its own mounting. Sweeps at one time are one step (their Doppler velocities fused,
 // their detections matched together): better than either radar alone. At their own times (10 Hz
-// and 8 Hz), each a step (merge_sweeps off), matched against the map both built: near the forward
-// radar alone; merged into the forward radar's steps, de-skewed: near the synchronised pair.
+// and 8 Hz), each a step (merge_sweeps off), matched against the map both built: within twice the
+// forward radar alone; merged into the forward radar's steps, de-skewed: near the synchronised pair.
 TEST(InertialRun, SeveralRadarsRunEachThroughItsMounting) {
   const sim::Motion6Dof motion(test::curveDrive(25));
   const sim::World3D world = sim::worldAlongPath(motion, true, 5);
@@ -142,7 +142,7 @@ TEST(InertialRun, SeveralRadarsRunEachThroughItsMounting) {
   each_time.merge_sweeps = false;
   const InertialRunResult apart = runInertialOdometry(TwoRadars(a, front, b8, rear), a.imu, each_time);
   EXPECT_EQ(apart.scans, a.scans.size() + b8.scans.size()) << "each sweep at its own time, a step";
-  EXPECT_LT(ateOf(apart, motion), 1.5 * front_alone);
+  EXPECT_LT(ateOf(apart, motion), 2.0 * front_alone);
   EXPECT_LT(ateOf(apart, motion), 0.5 * rear_alone);
   // Merged (the default): each cycle one step at the front radar's time, the rear's sweep de-skewed
   // to it: near the synchronised pair.
@@ -153,6 +153,7 @@ TEST(InertialRun, SeveralRadarsRunEachThroughItsMounting) {
               merged.fallbacks);
   EXPECT_LT(ateOf(merged, motion), 0.5 * ateOf(apart, motion));
   EXPECT_LT(ateOf(merged, motion), 0.5 * front_alone);
+  EXPECT_LT(ateOf(merged, motion), 1.5 * ate) << "near the synchronised pair";
 }
 
 // Each radar's detections carry its own description's spherical accuracy (the others', the

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "drive_support.h"
 #include "radar_ndt/frontend/ego_velocity_3d.h"
 #include "radar_ndt/io/trajectory_io.h"
 #include "radar_ndt/odometry/doppler_imu.h"
@@ -90,6 +91,25 @@ TEST(Motion6Dof, AMemsImuDriftsAsItsGradeSays) {
   EXPECT_GT(gyro_err.norm(), 1e-4);
   EXPECT_LT(gyro_err.norm(), 0.05);
   EXPECT_THROW(sim::imu6Preset("consumer"), std::invalid_argument);
+}
+
+// A rig that ends its path still faces a world: it goes on past the path's end along the last
+// heading (a car's street 100 m, a walker's corridor 15 m), not only beside the path it drove.
+TEST(Motion6Dof, TheWorldGoesOnPastThePathsEnd) {
+  for (const bool car : {true, false}) {
+    const sim::Motion6Dof m(car ? test::curveDrive(30) : circleWalk(20));
+    const Eigen::Vector3d end = m.pose(m.end()).translation();
+    Eigen::Vector3d heading = end - m.pose(m.end() - 0.5).translation();
+    heading.z() = 0;
+    heading.normalize();
+    const double reach = car ? 100.0 : 15.0;
+    std::size_t ahead = 0;
+    for (const auto& b : sim::worldAlongPath(m, car, 3).boxes) {
+      const double along = (0.5 * (b.min + b.max) - end).dot(heading);
+      if (along > 0.2 * reach && along < reach + 5.0) ++ahead;
+    }
+    EXPECT_GT(ahead, car ? 100u : 15u) << (car ? "car" : "hand-held");
+  }
 }
 
 TEST(Motion6Dof, ARealHandheldWalkDrivesTheTiPreset) {

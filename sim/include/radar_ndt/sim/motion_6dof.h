@@ -93,7 +93,8 @@ std::vector<ImuSample> simulateImu6(const Motion6Dof& motion, const Imu6Options&
 /// A world around a path: for a hand-held rig (`car` false) corridors of walls 2.5-7 m either side
 /// with doors, pillars, a floor 1.2 m below and a ceiling 1.6 m above the rig; for a car buildings
 /// 8-15 m either side with gaps, poles, parked cars and the ground 1.5 m below the radar, following
-/// the path's height. Nothing is placed within 1 m of any part of the path.
+/// the path's height. Nothing is placed within 1 m of any part of the path. The world goes on
+/// straight past the path's end along its last heading (a car 100 m, a hand-held rig 15 m).
 World3D worldAlongPath(const Motion6Dof& motion, bool car, std::uint64_t seed);
 
 /// A 4D radar sequence along `motion`: scans at `rate` Hz from the radar at `mounting` on the body

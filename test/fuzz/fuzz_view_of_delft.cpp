@@ -34,7 +34,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       std::size_t dropped = 0;
       const auto cloud = radar_ndt::readVodRadarBin(path, &compensated, &dropped);
       if (compensated.size() != cloud.size()) finding("v_r_compensated and points differ in count");
-      if ((cloud.size() + dropped) * 28 != size - 1) finding("rows read and dropped do not add up to the file");
+      if ((cloud.size() + dropped) * 7 * sizeof(float) != size - 1)
+        finding("rows read and dropped do not add up to the file");
       for (const auto& p : cloud)
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(p.doppler) ||
             !std::isfinite(p.rcs) || !std::isfinite(p.time_offset))

@@ -31,6 +31,8 @@ seeds=$out/seeds
 rm -rf "$seeds"
 for t in "${all[@]}"; do mkdir -p "$seeds/$t" "$out/corpus/$t" "$out/artifacts/$t"; done
 prefixed() { { printf "\\x$(printf %02x "$1")"; cat "$2"; } > "$3"; }  # selector byte + file
+# The first 20 entries of a JSON list (a real table or CAN bus file cut to a fuzzable size).
+first_entries() { python3 -c "import json,sys; json.dump(json.load(open(sys.argv[1]))[:20], open(sys.argv[2],'w'), indent=1)" "$1" "$2"; }
 
 # Simulator output (Oxford layout), small scans so the fuzzer runs fast.
 if cmake -S . -B build -G Ninja >/dev/null && cmake --build build --target radar_sim >/dev/null; then
@@ -68,14 +70,12 @@ if [ -d "$data" ]; then
   tables=$data/nuscenes-mini-radar/v1.0-mini
   k=0; for t in sensor calibrated_sensor ego_pose sample scene log sample_data; do
     # the first rows of each real table (the big ones cut to 20 rows), behind the target's selector
-    python3 -c "import json,sys; json.dump(json.load(open(sys.argv[1]))[:20], open(sys.argv[2],'w'), indent=1)" \
-      "$tables/$t.json" "$out/$t.json"
+    first_entries "$tables/$t.json" "$out/$t.json"
     prefixed $k "$out/$t.json" "$seeds/fuzz_nuscenes_tables/real_$t.json"; rm "$out/$t.json"; k=$((k+1))
   done
   # The first messages of a real scene's CAN bus files: ms_imu (yaw rate, 6-axis) and the wheels.
   for t in ms_imu zoe_veh_info; do
-    python3 -c "import json,sys; json.dump(json.load(open(sys.argv[1]))[:20], open(sys.argv[2],'w'), indent=1)" \
-      "$data/nuscenes-mini-radar/can_bus/scene-0061_$t.json" "$out/$t.json"
+    first_entries "$data/nuscenes-mini-radar/can_bus/scene-0061_$t.json" "$out/$t.json"
   done
   prefixed 1 "$out/ms_imu.json" "$seeds/fuzz_motion_sensors/real_ms_imu_yaw.json"
   prefixed 3 "$out/ms_imu.json" "$seeds/fuzz_motion_sensors/real_ms_imu.json"

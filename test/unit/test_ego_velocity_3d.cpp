@@ -125,6 +125,45 @@ TEST(EgoVelocity3D, DegenerateScansAreInvalidAndSayWhy) {
   EXPECT_THROW(EgoVelocity3DEstimator{bad}, std::invalid_argument);
 }
 
+// A lorry filling the view: its detections (one rigid motion, so one consistent velocity) outnumber
+// the static world's. RANSAC alone takes the lorry; a prediction of the radar's velocity (an
+// IMU's) keeps it to the static world, and a prediction no consensus agrees with is refused.
+TEST(EgoVelocity3D, APredictionKeepsTheStaticWorldWhenAMoverFillsTheView) {
+  const Eigen::Vector3d truth(8, 0.2, 0), lorry_relative(-6, 0.5, 0);
+  Scan s = syntheticScan(truth, 40, 0, 0.05, 15, 21);
+  const Scan lorry = syntheticScan(truth - lorry_relative, 90, 0, 0.05, 15, 22);
+  for (std::size_t i = 0; i < lorry.positions.size(); ++i) {
+    s.positions.push_back(lorry.positions[i]);
+    s.doppler.push_back(lorry.doppler[i]);
+    s.moving.push_back(true);
+  }
+  const EgoVelocity3DEstimator est;
+  const EgoVelocity3D alone = est.estimate(s.positions, s.doppler);
+  ASSERT_TRUE(alone.valid) << alone.why;
+  EXPECT_GT((alone.velocity - truth).norm(), 3.0) << "without a prediction the lorry wins";
+
+  EgoVelocityPrior prior;
+  prior.velocity = truth + Eigen::Vector3d(0.15, -0.1, 0.05);
+  prior.covariance = 0.2 * 0.2 * Eigen::Matrix3d::Identity();
+  std::vector<bool> inlier;
+  const EgoVelocity3D guided = est.estimate(s.positions, s.doppler, &inlier, &prior);
+  ASSERT_TRUE(guided.valid) << guided.why;
+  EXPECT_LT((guided.velocity - truth).norm(), 0.1) << guided.velocity.transpose();
+  std::size_t wrong = 0;
+  for (std::size_t i = 0; i < inlier.size(); ++i) wrong += inlier[i] == s.moving[i];
+  EXPECT_LE(wrong, 3u);
+
+  // Only the lorry in view, the prediction the static world's: refused, and the flags are the
+  // prediction's (no lorry detection among them).
+  const EgoVelocity3D refused = est.estimate(lorry.positions, lorry.doppler, &inlier, &prior);
+  EXPECT_FALSE(refused.valid);
+  EXPECT_FALSE(refused.why.empty());
+  EXPECT_EQ(std::count(inlier.begin(), inlier.end(), true), 0);
+  // A prediction with room for the lorry's velocity takes it: the gate is the prediction's.
+  prior.covariance = 10.0 * 10.0 * Eigen::Matrix3d::Identity();
+  EXPECT_TRUE(est.estimate(lorry.positions, lorry.doppler, nullptr, &prior).valid);
+}
+
 TEST(EgoVelocity3D, TheSameScanGivesTheSameAnswer) {
   const Scan s = syntheticScan(Eigen::Vector3d(3, 0, 0), 80, 0.3, 0.05, 15, 9);
   const EgoVelocity3D a = EgoVelocity3DEstimator().estimate(s.positions, s.doppler);

@@ -30,14 +30,28 @@ std::pair<double, std::size_t> msac(const std::vector<Eigen::Vector3d>& rows, co
   return {cost, count};
 }
 
+/// The squared Mahalanobis distance of v from the prior (its covariance plus `extra`).
+double priorDistance(const EgoVelocityPrior& prior, const Eigen::Vector3d& v,
+                     const Eigen::Matrix3d& extra = Eigen::Matrix3d::Zero()) {
+  const Eigen::Vector3d d = v - prior.velocity;
+  const Eigen::LDLT<Eigen::Matrix3d> ldlt(prior.covariance + extra);
+  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return std::numeric_limits<double>::infinity();
+  return d.dot(ldlt.solve(d));
+}
+
 /// RANSAC over minimal samples of three directions with the MSAC cost (deterministic: fixed seed,
-/// own index draw); false when no sample had independent directions.
+/// own index draw); false when no sample had independent directions. With a prior, its velocity
+/// is the first hypothesis and samples beyond its gate are passed over.
 bool ransac(const std::vector<Eigen::Vector3d>& rows, const std::vector<double>& rhs, const EgoVelocity3DOptions& o,
-            Eigen::Vector3d* best_out) {
+            const EgoVelocityPrior* prior, Eigen::Vector3d* best_out) {
   const std::size_t n = rows.size();
   std::mt19937 rng(o.seed);
   Eigen::Vector3d best = Eigen::Vector3d::Zero();
   double best_cost = std::numeric_limits<double>::infinity();
+  if (prior) {
+    best = prior->velocity;
+    best_cost = msac(rows, rhs, best, o.inlier_threshold).first;
+  }
   for (int it = 0; it < o.max_iterations; ++it) {
     const std::size_t a = rng() % n, b = rng() % n, c = rng() % n;
     if (a == b || a == c || b == c) continue;
@@ -47,6 +61,7 @@ bool ransac(const std::vector<Eigen::Vector3d>& rows, const std::vector<double>&
     if (std::abs(A.determinant()) < 1e-3) continue;
     const Eigen::Vector3d v = A.partialPivLu().solve(Eigen::Vector3d(rhs[a], rhs[b], rhs[c]));
     if (!v.allFinite() || v.norm() > 100.0) continue;
+    if (prior && priorDistance(*prior, v) > prior->gate) continue;
     const double cost = msac(rows, rhs, v, o.inlier_threshold).first;
     if (cost < best_cost) {
       best_cost = cost;
@@ -88,42 +103,26 @@ void EgoVelocity3DOptions::validate() const {
   checkFields(*this, "EgoVelocity3DOptions");
 }
 
-EgoVelocity3D EgoVelocity3DEstimator::estimate(const std::vector<Eigen::Vector3d>& positions,
-                                               const std::vector<double>& doppler, std::vector<bool>* inlier) const {
-  const EgoVelocity3DOptions& o = options_;
+namespace {
+
+/// v from the rows (RANSAC, then least squares on its inliers), judged: `in` flags the inliers.
+EgoVelocity3D fit(const std::vector<Eigen::Vector3d>& rows, const std::vector<double>& rhs,
+                  const EgoVelocity3DOptions& o, const EgoVelocityPrior* prior, std::vector<char>& in) {
   EgoVelocity3D out;
-  if (inlier) inlier->assign(positions.size(), false);
-  if (positions.size() != doppler.size()) {
-    out.why = "positions and Doppler differ in number";
-    return out;
-  }
-  // One row a usable detection: v_r = −u · v.
-  std::vector<Eigen::Vector3d> rows;
-  std::vector<double> rhs;
-  std::vector<std::size_t> index;
-  for (std::size_t i = 0; i < positions.size(); ++i) {
-    const double r = positions[i].norm();
-    if (!positions[i].allFinite() || !std::isfinite(doppler[i]) || !(r > std::max(o.min_range, 1e-6))) continue;
-    rows.push_back(-positions[i] / r);
-    rhs.push_back(doppler[i]);
-    index.push_back(i);
-  }
   const std::size_t n = rows.size();
   out.points = n;
+  in.assign(n, 0);
   if (n < std::max<std::size_t>(o.min_inliers, 3)) {
     out.why = std::to_string(n) + " usable detections, " + std::to_string(std::max<std::size_t>(o.min_inliers, 3)) +
               " needed";
     return out;
   }
-
   Eigen::Vector3d v;
-  if (!ransac(rows, rhs, o, &v)) {
+  if (!ransac(rows, rhs, o, prior, &v)) {
     out.why = "no three detections in independent directions";
     return out;
   }
-
   Eigen::Matrix3d AtA;
-  std::vector<char> in;
   const std::size_t m = refine(rows, rhs, o.inlier_threshold, v, AtA, in);
   if (m == 0) {
     out.why = "the static detections' directions span a plane: one component of the velocity is unobserved";
@@ -138,13 +137,58 @@ EgoVelocity3D EgoVelocity3DEstimator::estimate(const std::vector<Eigen::Vector3d
   out.residual_rms = std::sqrt(r2 / static_cast<double>(m));
   const double s2 = std::max(r2 / std::max(1.0, static_cast<double>(m) - 3.0), o.doppler_sigma * o.doppler_sigma);
   out.covariance = s2 * AtA.inverse();
-  if (inlier)
-    for (std::size_t i = 0; i < n; ++i) (*inlier)[index[i]] = in[i] != 0;
   if (m < o.min_inliers || static_cast<double>(m) < o.min_inlier_ratio * static_cast<double>(n)) {
     out.why = std::to_string(m) + " of " + std::to_string(n) + " detections static: too few to trust";
     return out;
   }
+  const double distance = prior ? priorDistance(*prior, v, out.covariance) : 0.0;
+  if (prior && !(distance <= prior->gate)) {
+    out.why = "the static consensus is " + std::to_string(distance) + " (chi-square) from the predicted velocity";
+    return out;
+  }
   out.valid = true;
+  return out;
+}
+
+/// The rows the prior's velocity explains: within the inlier threshold plus three of the
+/// prediction's own standard deviations along each row.
+void priorInliers(const std::vector<Eigen::Vector3d>& rows, const std::vector<double>& rhs,
+                  const EgoVelocityPrior& prior, double thr, std::vector<char>& in) {
+  in.assign(rows.size(), 0);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const double sigma = std::sqrt(std::max(0.0, rows[i].dot(prior.covariance * rows[i])));
+    in[i] = std::abs(rows[i].dot(prior.velocity) - rhs[i]) <= thr + 3 * sigma;
+  }
+}
+
+}  // namespace
+
+EgoVelocity3D EgoVelocity3DEstimator::estimate(const std::vector<Eigen::Vector3d>& positions,
+                                               const std::vector<double>& doppler, std::vector<bool>* inlier,
+                                               const EgoVelocityPrior* prior) const {
+  const EgoVelocity3DOptions& o = options_;
+  if (inlier) inlier->assign(positions.size(), false);
+  if (positions.size() != doppler.size()) {
+    EgoVelocity3D out;
+    out.why = "positions and Doppler differ in number";
+    return out;
+  }
+  // One row a usable detection: v_r = −u · v.
+  std::vector<Eigen::Vector3d> rows;
+  std::vector<double> rhs;
+  std::vector<std::size_t> index;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    const double r = positions[i].norm();
+    if (!positions[i].allFinite() || !std::isfinite(doppler[i]) || !(r > std::max(o.min_range, 1e-6))) continue;
+    rows.push_back(-positions[i] / r);
+    rhs.push_back(doppler[i]);
+    index.push_back(i);
+  }
+  std::vector<char> in;
+  const EgoVelocity3D out = fit(rows, rhs, o, prior, in);
+  if (!out.valid && prior) priorInliers(rows, rhs, *prior, o.inlier_threshold, in);
+  if (inlier)
+    for (std::size_t i = 0; i < rows.size(); ++i) (*inlier)[index[i]] = in[i] != 0;
   return out;
 }
 

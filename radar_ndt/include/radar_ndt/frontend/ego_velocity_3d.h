@@ -9,6 +9,10 @@
 // radar-inertial odometry of Doer and Trommer 2020 uses it), then least squares on the inliers
 // gives v and its covariance, scaled by the inliers' residual variance. bodyVelocity() moves the
 // result to the vehicle's or rig's origin with the radar's mounting and the angular velocity.
+// A scan where the static world is not the largest consistent set (a lorry filling the view, false
+// alarms facing an empty field) fools RANSAC; given a prediction of v (an IMU carried from the last
+// scan, as EKF-RIO gates the radar's velocity by its Mahalanobis distance), only hypotheses within
+// its gate count, the prediction itself among them, and an estimate outside it is refused.
 
 #include <cstdint>
 #include <string>
@@ -67,6 +71,14 @@ void EgoVelocity3DOptions::fields(Visit&& visit) {
   visit(&S::seed, Field("seed", "RANSAC's seed: the same input gives the same answer"));
 }
 
+/// A prediction of the radar's velocity (radar axes) from another sensor, with its covariance.
+struct EgoVelocityPrior {
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
+  /// Squared Mahalanobis distance beyond which a velocity is not the radar's: χ²(3) at 99.9 %.
+  double gate = 16.27;
+};
+
 class EgoVelocity3DEstimator {
  public:
   EgoVelocity3DEstimator() = default;
@@ -76,13 +88,17 @@ class EgoVelocity3DEstimator {
 
   /// `positions` and `doppler` one per detection, in the radar's frame (origin at the radar).
   /// Non-finite detections and those nearer than min_range are left out. `inlier` (optional) gets
-  /// one flag per detection: true for the static world the estimate explains.
+  /// one flag per detection: true for the static world the estimate explains. With a `prior`,
+  /// RANSAC's hypotheses beyond its gate are passed over and the prior's velocity is one of them;
+  /// an estimate beyond the gate (its covariance and the prior's) is invalid, and `inlier` then
+  /// flags the detections the prior's velocity explains within its own uncertainty.
   EgoVelocity3D estimate(const std::vector<Eigen::Vector3d>& positions, const std::vector<double>& doppler,
-                         std::vector<bool>* inlier = nullptr) const;
+                         std::vector<bool>* inlier = nullptr, const EgoVelocityPrior* prior = nullptr) const;
 
   /// Any PCL cloud with x, y, z and a `doppler` field (PointRadar, PointRadar4D), radar frame.
   template <typename PointT>
-  EgoVelocity3D estimate(const pcl::PointCloud<PointT>& cloud, std::vector<bool>* inlier = nullptr) const {
+  EgoVelocity3D estimate(const pcl::PointCloud<PointT>& cloud, std::vector<bool>* inlier = nullptr,
+                         const EgoVelocityPrior* prior = nullptr) const {
     std::vector<Eigen::Vector3d> positions;
     std::vector<double> doppler;
     positions.reserve(cloud.size());
@@ -91,7 +107,7 @@ class EgoVelocity3DEstimator {
       positions.emplace_back(p.x, p.y, p.z);
       doppler.push_back(p.doppler);
     }
-    return estimate(positions, doppler, inlier);
+    return estimate(positions, doppler, inlier, prior);
   }
 
  private:

@@ -79,6 +79,7 @@ void InertialFilter::initialize(const std::vector<ImuSample>& imu, std::vector<s
   const double bg = start.still ? options_.initial_gyro_bias : 10 * options_.initial_gyro_bias;
   P_.block<3, 3>(6, 6) = Eigen::Matrix3d::Identity() * bg * bg;
   P_.block<3, 3>(9, 9) = Eigen::Matrix3d::Identity() * options_.initial_accel_bias * options_.initial_accel_bias;
+  still_start_ = start.still;
   initialized_ = true;
 }
 

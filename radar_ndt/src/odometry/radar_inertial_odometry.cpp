@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "radar_ndt/odometry/imu_velocity.h"
 #include "radar_ndt/registration/detail/point_fields.h"
 #include "radar_ndt/registration/weighted_ndt_3d.h"
 #include "radar_ndt/se2.h"
@@ -28,8 +29,8 @@ Cloud withinRange(const Cloud& scan, double min_range, double max_range) {
   return out;
 }
 
-/// The detections whose Doppler the static world explains
-/// (all of them when the scan has no valid ego-velocity), moved into the body frame.
+/// The detections whose Doppler the static world explains (all of them when the scan has no
+/// valid ego-velocity and no prediction flagged them), moved into the body frame.
 Cloud::Ptr staticBodyCloud(const Cloud& scan, const std::vector<bool>& inlier, bool use_inliers,
                            const Eigen::Isometry3d& radar_to_body) {
   Cloud kept;
@@ -251,6 +252,11 @@ bool RadarInertialOdometry::ready(double stamp, OdometryStep3D& step) {
   filter_.initialize(imu_, problems_);
   last_imu_ = imu_.front();
   last_stamp_ = last_imu_.t;
+  if (filter_.stillStart()) {  // standing at the IMU's first message: the prediction starts there
+    predicting_ = true;
+    accepted_stamp_ = last_imu_.t;
+    accepted_covariance_.setZero();
+  }
   return true;
 }
 
@@ -258,15 +264,32 @@ OdometryStep3D RadarInertialOdometry::addScan(double stamp, const Cloud& scan) {
   return addScans(stamp, {RadarScan4D{&scan, radar_to_body_, 0}});
 }
 
+bool RadarInertialOdometry::imuPrediction(double stamp, Eigen::Vector3d& velocity, Eigen::Matrix3d& covariance) const {
+  if (!options_.use_imu || !options_.velocity_prior || !predicting_) return false;
+  velocity = predictBodyVelocity(filter_.pose().linear(), last_velocity_, last_imu_, imu_, stamp, filter_.gyroBias(),
+                                 filter_.accelBias(), options_.filter.gravity);
+  covariance = predictedVelocityCovariance(accepted_covariance_, stamp - accepted_stamp_, options_.velocity_prior_floor,
+                                           options_.velocity_prior_sigma);
+  return velocity.allFinite() && covariance.allFinite();
+}
+
 Cloud::Ptr RadarInertialOdometry::frontEnd(const std::vector<RadarScan4D>& scans, OdometryStep3D& step,
-                                           std::vector<std::pair<const RadarScan4D*, EgoVelocity3D>>& egos) {
+                                           std::vector<std::pair<const RadarScan4D*, EgoVelocity3D>>& egos,
+                                           const std::pair<Eigen::Vector3d, Eigen::Matrix3d>* predicted,
+                                           const Eigen::Vector3d& omega) {
   Cloud::Ptr source;
   for (const RadarScan4D& s : scans) {
     const Cloud in_range = withinRange(*s.scan, options_.min_range, options_.max_range);
     step.points += in_range.size();
     std::vector<bool> inlier;
-    const EgoVelocity3D ego = ego_.estimate(in_range, &inlier);
-    const Cloud::Ptr body = staticBodyCloud(in_range, inlier, ego.valid, s.radar_to_body);
+    EgoVelocityPrior prior;
+    if (predicted) {  // the body's predicted velocity at the radar, in its axes
+      const Eigen::Matrix3d Rt = s.radar_to_body.linear().transpose();
+      prior.velocity = Rt * (predicted->first + omega.cross(s.radar_to_body.translation()));
+      prior.covariance = Rt * predicted->second * Rt.transpose();
+    }
+    const EgoVelocity3D ego = ego_.estimate(in_range, &inlier, predicted ? &prior : nullptr);
+    const Cloud::Ptr body = staticBodyCloud(in_range, inlier, ego.valid || predicted, s.radar_to_body);
     if (!source)
       source = body;
     else
@@ -277,26 +300,35 @@ Cloud::Ptr RadarInertialOdometry::frontEnd(const std::vector<RadarScan4D>& scans
   return source;
 }
 
+std::pair<Eigen::Vector3d, Eigen::Matrix3d> RadarInertialOdometry::stepVelocity(
+    double stamp, const std::vector<std::pair<const RadarScan4D*, EgoVelocity3D>>& egos,
+    const std::pair<Eigen::Vector3d, Eigen::Matrix3d>* predicted, const Eigen::Vector3d& omega) {
+  if (egos.empty()) return predicted ? *predicted : std::make_pair(last_velocity_, Eigen::Matrix3d::Identity().eval());
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Matrix3d>> body;
+  for (const auto& [s, ego] : egos)
+    body.emplace_back(bodyVelocity(s->radar_to_body, ego.velocity, omega),
+                      bodyVelocityCovariance(s->radar_to_body, ego.covariance));
+  const auto fused = fuseBodyVelocities(body);
+  accepted_stamp_ = stamp;
+  accepted_covariance_ = fused.second;
+  return fused;
+}
+
 OdometryStep3D RadarInertialOdometry::addScans(double stamp, const std::vector<RadarScan4D>& scans) {
   if (scans.empty()) throw std::invalid_argument("RadarInertialOdometry::addScans: no scan");
   OdometryStep3D step;
   step.stamp = stamp;
-  std::vector<std::pair<const RadarScan4D*, EgoVelocity3D>> egos;  // the valid ones
-  const Cloud::Ptr source = frontEnd(scans, step, egos);
-  step.velocity_valid = !egos.empty();
-  if (!ready(stamp, step)) return step;
+  const bool go = ready(stamp, step);
   const Eigen::Vector3d omega_guess =
       options_.use_imu ? Eigen::Vector3d((imu_.empty() ? last_imu_ : imu_.back()).gyro - filter_.gyroBias())
                        : rotation_rate_;
-  Eigen::Vector3d velocity = last_velocity_;
-  Eigen::Matrix3d velocity_cov = Eigen::Matrix3d::Identity();
-  if (!egos.empty()) {
-    std::vector<std::pair<Eigen::Vector3d, Eigen::Matrix3d>> body;
-    for (const auto& [s, ego] : egos)
-      body.emplace_back(bodyVelocity(s->radar_to_body, ego.velocity, omega_guess),
-                        bodyVelocityCovariance(s->radar_to_body, ego.covariance));
-    std::tie(velocity, velocity_cov) = fuseBodyVelocities(body);
-  }
+  std::pair<Eigen::Vector3d, Eigen::Matrix3d> predicted;
+  const bool has_prediction = go && imuPrediction(stamp, predicted.first, predicted.second);
+  std::vector<std::pair<const RadarScan4D*, EgoVelocity3D>> egos;  // the valid ones
+  const Cloud::Ptr source = frontEnd(scans, step, egos, has_prediction ? &predicted : nullptr, omega_guess);
+  step.velocity_valid = !egos.empty();
+  if (!go) return step;
+  auto [velocity, velocity_cov] = stepVelocity(stamp, egos, has_prediction ? &predicted : nullptr, omega_guess);
   const bool valid = !egos.empty();
   // Standing still: the Doppler velocity within its noise of zero (and, radar only, no turn since
   // the last scan; with an IMU the gyro turns the prior whatever the scan says). The rig is taken
@@ -308,6 +340,11 @@ OdometryStep3D RadarInertialOdometry::addScans(double stamp, const std::vector<R
   step.velocity = velocity;
   if (options_.deskew) deskewBody(*source, velocity, omega_guess);
   if (!started_) {
+    if (!predicting_) {  // the first velocity, taken or held, starts the prediction
+      predicting_ = true;
+      accepted_stamp_ = stamp;
+      accepted_covariance_ = velocity_cov;
+    }
     if (options_.use_imu) {
       // The IMU's messages up to the scan carry the attitude to it; the odometry frame's origin
       // is the body at its first scan.
@@ -320,7 +357,9 @@ OdometryStep3D RadarInertialOdometry::addScans(double stamp, const std::vector<R
   } else {
     const double dt = stamp - last_stamp_;
     const Motion prior = priorMotion(stamp, velocity, velocity_cov);
-    if (options_.use_imu && dt > 0)
+    // Gravity is read against the Doppler's acceleration; the IMU's own prediction would read back
+    // the attitude it was integrated with.
+    if (options_.use_imu && dt > 0 && (valid || !has_prediction))
       filter_.updateGravity(prior.specific_force,
                             (velocity - last_velocity_) / dt + prior.angular_velocity.cross(velocity),
                             (velocity_cov + last_velocity_covariance_) / (dt * dt));
@@ -343,7 +382,9 @@ void RadarInertialOdometry::remember(const OdometryStep3D& step, const Eigen::Ma
   last_velocity_covariance_ = velocity_covariance;
   last_still_ = step.still;
   last_stamp_ = step.stamp;
-  if (map_.wantsKeyframe(step.pose, radar) && !source.empty()) {
+  // A scan without a Doppler velocity has no confirmed static world (its detections are what a
+  // prediction or nothing picked): it is matched but never joins the map.
+  if (step.velocity_valid && map_.wantsKeyframe(step.pose, radar) && !source.empty()) {
     map_.add(source, step.pose, radar);
     ++map_version_;
   }

@@ -102,6 +102,8 @@ class InertialFilter {
   /// that was not still) are added to `problems`. std::invalid_argument without a message.
   void initialize(const std::vector<ImuSample>& imu, std::vector<std::string>& problems);
   bool initialized() const { return initialized_; }
+  /// Whether the IMU's first initial_seconds were still (the rig then known to stand at the start).
+  bool stillStart() const { return still_start_; }
 
   /// Moves the state over [a.t, b.t]: the gyro's mean turns R; p moves by R v dt with `velocity`
   /// (body axes, m/s) and its covariance `velocity_covariance` taken as constant over `interval`
@@ -134,6 +136,7 @@ class InertialFilter {
   void correct(const Eigen::Matrix<double, 12, 1>& dx);
   InertialFilterOptions options_;
   bool initialized_ = false;
+  bool still_start_ = false;
   Eigen::Matrix3d R_ = Eigen::Matrix3d::Identity();
   Eigen::Vector3d p_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d gyro_bias_ = Eigen::Vector3d::Zero(), accel_bias_ = Eigen::Vector3d::Zero();

@@ -3,7 +3,9 @@
 // the fusion its conclusion asks for. Each scan:
 //  1. front-end: the radar's 3D Doppler velocity (ego_velocity_3d.h); its inliers are the static
 //     world, the rest (moving objects, ghosts) are left out of matching; the body velocity follows
-//     from the mounting and the angular velocity;
+//     from the mounting and the angular velocity. With an IMU, the velocity it predicts from the
+//     last scan's (imu_velocity.h) gates it: a Doppler consensus beyond it is refused and the
+//     prediction moves the prior instead;
 //  2. prior: with an IMU, the inertial filter (inertial_filter.h) carried to the scan's time, the
 //     gyro turning and the Doppler velocity moving it, then gravity holding roll and pitch; radar
 //     only, the last scan's rotation rate and the Doppler velocity;
@@ -58,6 +60,13 @@ struct RadarInertialOptions {
   /// Each detection with a time_offset (a driver's per-point time, the description's `time:`)
   /// moved to the step's time under the step's velocity and turn rate (deskewBody).
   bool deskew = true;
+  /// With an IMU: each scan's Doppler velocity checked against the IMU's prediction from the last
+  /// scan's (RANSAC's hypotheses within its gate, χ²(3) at 99.9 %; from zero at a still start).
+  /// The prediction's 1σ: the last accepted velocity's, velocity_prior_floor (what the Doppler and
+  /// the two clocks get wrong at any time) and velocity_prior_sigma a second since that velocity.
+  bool velocity_prior = true;
+  double velocity_prior_floor = 0.1;  ///< m/s
+  double velocity_prior_sigma = 0.3;  ///< m/s²
   LocalMap3DOptions map;
   EgoVelocity3DOptions ego_velocity;
   InertialFilterOptions filter;
@@ -91,6 +100,13 @@ void RadarInertialOptions::fields(Visit&& visit) {
   visit(&S::imu_time_offset,
         Field("imu_time_offset", "added to the IMU's stamps to bring them to the radar's clock").unit("s"));
   visit(&S::deskew, Field("deskew", "detections with a per-point time moved to the scan's time (de-skew)"));
+  visit(&S::velocity_prior,
+        Field("velocity_prior", "with an IMU, each scan's Doppler velocity gated by the IMU's prediction"));
+  visit(&S::velocity_prior_floor,
+        Field("velocity_prior_floor", "the IMU's predicted velocity's smallest 1 sigma").unit("m/s").atLeast(0));
+  visit(
+      &S::velocity_prior_sigma,
+      Field("velocity_prior_sigma", "how fast the IMU's predicted velocity grows uncertain").unit("m/s^2").positive());
   visit(&S::map, Field("map", "the local map"));
   visit(&S::ego_velocity, Field("ego_velocity", "the 3D Doppler ego-velocity"));
   visit(&S::filter, Field("filter", "the inertial filter"));
@@ -158,10 +174,22 @@ class RadarInertialOdometry {
   struct Motion;
   Motion priorMotion(double stamp, const Eigen::Vector3d& velocity, const Eigen::Matrix3d& velocity_covariance);
   void match(const pcl::PointCloud<PointRadar4D>::Ptr& source, OdometryStep3D& step);
-  /// Each radar's detections in range, its Doppler ego-velocity (the valid ones into `egos`) and
-  /// its static detections moved into the body frame, all radars' together (counted in `step`).
+  /// The body velocity (with its covariance) the IMU predicts at `stamp` from the last scan's;
+  /// false radar only, with velocity_prior off, or before the first scan after a start that was
+  /// not still.
+  bool imuPrediction(double stamp, Eigen::Vector3d& velocity, Eigen::Matrix3d& covariance) const;
+  /// Each radar's detections in range, its Doppler ego-velocity (the valid ones into `egos`; with
+  /// a `predicted` body velocity, gated by it at the angular velocity `omega`) and its static
+  /// detections moved into the body frame, all radars' together (counted in `step`).
   pcl::PointCloud<PointRadar4D>::Ptr frontEnd(const std::vector<RadarScan4D>& scans, OdometryStep3D& step,
-                                              std::vector<std::pair<const RadarScan4D*, EgoVelocity3D>>& egos);
+                                              std::vector<std::pair<const RadarScan4D*, EgoVelocity3D>>& egos,
+                                              const std::pair<Eigen::Vector3d, Eigen::Matrix3d>* predicted,
+                                              const Eigen::Vector3d& omega);
+  /// The step's body velocity and its covariance: the valid radars' Doppler velocities fused (then
+  /// the last accepted), else the IMU's prediction, else the last step's held (1 m/s, 1σ).
+  std::pair<Eigen::Vector3d, Eigen::Matrix3d> stepVelocity(
+      double stamp, const std::vector<std::pair<const RadarScan4D*, EgoVelocity3D>>& egos,
+      const std::pair<Eigen::Vector3d, Eigen::Matrix3d>* predicted, const Eigen::Vector3d& omega);
   /// Whether the scan at `stamp` gets a pose: later than the last, the filter started (from the
   /// IMU's still start) when fused. Says why not in `step`.
   bool ready(double stamp, OdometryStep3D& step);
@@ -189,6 +217,9 @@ class RadarInertialOdometry {
   double match_scale_ = 1;
   bool last_still_ = false;
   Eigen::Matrix3d last_velocity_covariance_ = Eigen::Matrix3d::Identity();
+  bool predicting_ = false;    ///< a velocity to predict from: a still start or a first scan
+  double accepted_stamp_ = 0;  ///< the last scan whose Doppler velocity was taken
+  Eigen::Matrix3d accepted_covariance_ = Eigen::Matrix3d::Identity();
 };
 
 }  // namespace radar_ndt

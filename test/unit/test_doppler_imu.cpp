@@ -165,3 +165,34 @@ TEST(DopplerImu, TheRadarsLatencyIsTakenOffItsTimes) {
   EXPECT_NEAR(res.trajectory.stamps.back(), 20.0, 1e-9);
   EXPECT_LT((res.trajectory.poses.back().translation() - truthAt(20.0).translation()).norm(), 0.1);
 }
+
+TEST(DopplerImu, TheImusPredictionRefusesAChanceDopplerConsensus) {
+  // A second of scans whose Doppler consensus is a mover's (or false alarms'), each with the tight
+  // covariance a good fit claims: the gate refuses them and holds the neighbours' velocity over;
+  // without it they move the walk by metres. A clean walk, noise and all, loses no scan to it.
+  Recording r = record(40, Eigen::Vector3d::Zero(), 0.002, 0.05);
+  for (auto& v : r.velocities) v.covariance = 0.05 * 0.05 * Eigen::Matrix3d::Identity();
+  const DopplerImuResult clean = runDopplerImu(r.imu, r.velocities);
+  EXPECT_EQ(clean.gated_velocities, 0u);
+  for (std::size_t k = 200; k < 211; ++k) r.velocities[k].velocity += Eigen::Vector3d(3.0, -2.0, 0.5);
+  const DopplerImuResult gated = runDopplerImu(r.imu, r.velocities);
+  DopplerImuOptions off;
+  off.velocity_gate = false;
+  const DopplerImuResult open = runDopplerImu(r.imu, r.velocities, off);
+  const auto endError = [](const DopplerImuResult& res) {
+    return (res.trajectory.poses.back().translation() - truthAt(res.trajectory.stamps.back()).translation()).norm();
+  };
+  EXPECT_EQ(gated.gated_velocities, 11u);
+  EXPECT_EQ(gated.held_velocities, 11u);
+  EXPECT_EQ(open.gated_velocities, 0u);
+  std::string all;
+  for (const auto& p : gated.problems) all += p + "\n";
+  EXPECT_NE(all.find("11 scans' Doppler velocity beyond the IMU's prediction"), std::string::npos) << all;
+  EXPECT_LT(endError(gated), 2 * endError(clean) + 0.1) << "clean " << endError(clean);
+  EXPECT_GT(endError(open), 2.0);
+  // A start in motion: the first velocity is taken as it is, the gate works from there.
+  Recording moving = r;
+  moving.imu.erase(moving.imu.begin(), moving.imu.begin() + 400);  // the IMU from t = 2 s
+  const DopplerImuResult m = runDopplerImu(moving.imu, moving.velocities);
+  EXPECT_EQ(m.gated_velocities, 11u);
+}

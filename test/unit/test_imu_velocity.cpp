@@ -33,7 +33,9 @@ TEST(ImuVelocity, FollowsTheBodysVelocityThroughAccelerationAndTurns) {
         predictBodyVelocity(motion.pose(t0).linear(), bodyVelocityAt(motion, t0), imu[i], imu, t1,
                             Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 9.81);
     const Eigen::Vector3d truth = bodyVelocityAt(motion, t1);
-    if (start < 60) EXPECT_GT((truth - bodyVelocityAt(motion, t0)).norm(), 1.0) << "speeding up";
+    if (start < 60) {
+      EXPECT_GT((truth - bodyVelocityAt(motion, t0)).norm(), 1.0) << "speeding up";
+    }
     EXPECT_LT((predicted - truth).norm(), 0.02)
         << start << ": " << predicted.transpose() << " against " << truth.transpose();
   }

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "radar_ndt/frontend/ego_velocity_3d.h"
+#include "radar_ndt/odometry/imu_velocity.h"
 #include "radar_ndt/odometry/inertial_filter.h"
 #include "radar_ndt/se2.h"
 #include "radar_ndt/se3.h"
@@ -50,15 +52,6 @@ std::vector<ImuSample> cleanImu(std::vector<ImuSample> imu, double max_gap, std:
   return out;
 }
 
-/// Roll, pitch and the gyro's bias from the first initial_seconds of `imu` (said in `result`'s
-/// problems when the accelerometer's gravity is off the body's z, or the rig was not still).
-Eigen::Matrix3d startingAttitude(const std::vector<ImuSample>& imu, const DopplerImuOptions& o,
-                                 DopplerImuResult& result) {
-  const StillStart start = readStillStart(imu, o.initial_seconds, o.gravity, result.problems);
-  result.gyro_bias = start.gyro_bias;
-  return start.attitude;
-}
-
 /// The body velocity at a time: linear between the valid samples around it, held beyond the ends;
 /// and its rate of change there (the slope of that line, zero beyond the ends). Asked at
 /// increasing times.
@@ -90,30 +83,18 @@ Eigen::Matrix3d pullToGravity(const Eigen::Matrix3d& R, const Eigen::Vector3d& f
   return expSO3(axis / s * std::asin(std::min(s, 1.0)) * gain) * R;
 }
 
-}  // namespace
-
-void DopplerImuOptions::validate() const {
-  checkFields(*this, "DopplerImuOptions");
-}
-
-DopplerImuResult runDopplerImu(std::vector<ImuSample> imu_in, std::vector<BodyVelocitySample> velocities,
-                               const DopplerImuOptions& o) {
-  o.validate();
-  DopplerImuResult result;
-  const std::vector<ImuSample> imu = cleanImu(std::move(imu_in), o.max_imu_gap, result.problems);
-  if (imu.size() < 2) throw std::invalid_argument("doppler-imu: fewer than two usable IMU messages");
-  // The scans' measurement times; the valid ones are what the velocity is interpolated from.
-  for (auto& v : velocities) v.t -= o.radar_latency;
-  std::stable_sort(velocities.begin(), velocities.end(),
-                   [](const BodyVelocitySample& a, const BodyVelocitySample& b) { return a.t < b.t; });
+/// The baseline's loop: the gyro integrated from `R`, roll and pitch pulled to gravity, the valid
+/// velocities (interpolated between them) turned into the world and integrated; a pose for every
+/// sample in the IMU's span into `result`.
+void integrate(const std::vector<ImuSample>& imu, const std::vector<BodyVelocitySample>& velocities, Eigen::Matrix3d R,
+               const DopplerImuOptions& o, DopplerImuResult& result) {
   std::vector<BodyVelocitySample> valid;
   for (const auto& v : velocities)
     if (v.valid && std::isfinite(v.t) && v.velocity.allFinite() && (valid.empty() || v.t > valid.back().t))
       valid.push_back(v);
   if (valid.empty()) throw std::invalid_argument("doppler-imu: no valid Doppler velocity");
-
-  Eigen::Matrix3d R = startingAttitude(imu, o, result);
-
+  result.trajectory = Trajectory();
+  result.held_velocities = 0;
   VelocityTrack velocityAt(std::move(valid));
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
   std::size_t next = 0;  // the next velocity sample to write a pose for
@@ -145,6 +126,87 @@ DopplerImuResult runDopplerImu(std::vector<ImuSample> imu_in, std::vector<BodyVe
       result.held_velocities += !velocities[next].valid;
     }
   }
+}
+
+/// The last velocity the gate accepted: its time, its value and covariance, the body's attitude.
+struct Accepted {
+  double t = 0;
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d attitude = Eigen::Matrix3d::Identity();
+};
+
+/// Whether `v` lies within the gate of the IMU's prediction from `a` (EKF-RIO's Mahalanobis test:
+/// the prediction's covariance and the sample's).
+bool withinGate(const Accepted& a, const BodyVelocitySample& v, const std::vector<ImuSample>& imu,
+                const Eigen::Vector3d& gyro_bias, const DopplerImuOptions& o) {
+  const auto later = [](double t, const ImuSample& s) { return t < s.t; };
+  const auto first = std::upper_bound(imu.begin(), imu.end(), a.t, later);
+  const auto last = std::upper_bound(first, imu.end(), v.t, later);
+  ImuSample from = *(first == imu.begin() ? first : first - 1);  // the reading at a.t, held
+  from.t = a.t;
+  const Eigen::Vector3d predicted =
+      predictBodyVelocity(a.attitude, a.velocity, from, std::vector<ImuSample>(first, last), v.t, gyro_bias,
+                          Eigen::Vector3d::Zero(), o.gravity);
+  const Eigen::Matrix3d S =
+      predictedVelocityCovariance(a.covariance, v.t - a.t, o.velocity_gate_floor, o.velocity_gate_sigma) + v.covariance;
+  const Eigen::Vector3d innovation = v.velocity - predicted;
+  const double d2 = innovation.dot(S.ldlt().solve(innovation));
+  return std::isfinite(d2) && d2 <= EgoVelocityPrior().gate;
+}
+
+/// Marks invalid every valid sample (time-ordered) beyond the gate of the prediction from the last
+/// accepted one; the attitude at each time is the first pass's `poses`. The first accepted
+/// velocity is zero at the IMU's first message after a still start, else the first valid sample.
+/// Returns how many were refused.
+std::size_t gateVelocities(std::vector<BodyVelocitySample>& velocities, const std::vector<ImuSample>& imu,
+                           const Trajectory& poses, const StillStart& start, const DopplerImuOptions& o) {
+  Accepted a;
+  bool accepted = start.still;
+  a.t = imu.front().t;
+  a.attitude = start.attitude;
+  std::size_t gated = 0;
+  for (BodyVelocitySample& v : velocities) {
+    Eigen::Isometry3d pose;
+    if (!v.valid || !v.velocity.allFinite() || !(v.t > a.t) || v.t > imu.back().t || !poses.poseAt(v.t, &pose))
+      continue;
+    if (accepted && !withinGate(a, v, imu, start.gyro_bias, o)) {
+      v.valid = false;
+      ++gated;
+      continue;
+    }
+    a = Accepted{v.t, v.velocity, v.covariance.allFinite() ? v.covariance : Eigen::Matrix3d::Zero(), pose.linear()};
+    accepted = true;
+  }
+  return gated;
+}
+
+}  // namespace
+
+void DopplerImuOptions::validate() const {
+  checkFields(*this, "DopplerImuOptions");
+}
+
+DopplerImuResult runDopplerImu(std::vector<ImuSample> imu_in, std::vector<BodyVelocitySample> velocities,
+                               const DopplerImuOptions& o) {
+  o.validate();
+  DopplerImuResult result;
+  const std::vector<ImuSample> imu = cleanImu(std::move(imu_in), o.max_imu_gap, result.problems);
+  if (imu.size() < 2) throw std::invalid_argument("doppler-imu: fewer than two usable IMU messages");
+  // The scans' measurement times; the valid ones are what the velocity is interpolated from.
+  for (auto& v : velocities) v.t -= o.radar_latency;
+  std::stable_sort(velocities.begin(), velocities.end(),
+                   [](const BodyVelocitySample& a, const BodyVelocitySample& b) { return a.t < b.t; });
+  const StillStart start = readStillStart(imu, o.initial_seconds, o.gravity, result.problems);
+  result.gyro_bias = start.gyro_bias;
+  integrate(imu, velocities, start.attitude, o, result);
+  if (!o.velocity_gate) return result;
+  result.gated_velocities = gateVelocities(velocities, imu, result.trajectory, start, o);
+  if (result.gated_velocities == 0) return result;
+  result.problems.push_back(
+      format("%.0f scans' Doppler velocity beyond the IMU's prediction (chi-square %.2f): held over as invalid ones",
+             double(result.gated_velocities), EgoVelocityPrior().gate));
+  integrate(imu, velocities, start.attitude, o, result);
   return result;
 }
 

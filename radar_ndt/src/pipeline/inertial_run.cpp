@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 
 #include "radar_ndt/frontend/ego_velocity_3d.h"
 #include "radar_ndt/odometry/local_map_3d.h"
@@ -163,7 +164,7 @@ void runBaseline(const RadarCycleSource& cycles, const std::vector<ImuSample>& i
         if (e.valid) valid.emplace_back(sample.velocity, bodyVelocityCovariance(sweep.sensor_to_vehicle, e.covariance));
       }
       sample.valid = !valid.empty();
-      if (group.size() > 1 && sample.valid) sample.velocity = fuseBodyVelocities(valid).first;
+      if (sample.valid) std::tie(sample.velocity, sample.covariance) = fuseBodyVelocities(valid);
       velocities.push_back(sample);
       ++r.scans;
       if (on_step) body[t] = {k, bodyDetections(group, o)};

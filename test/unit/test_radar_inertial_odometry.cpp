@@ -416,3 +416,27 @@ TEST(RadarInertialOdometry, TheImusPredictionRefusesAChanceDopplerConsensus) {
   EXPECT_LT(gated, 1.5 * reference);
   EXPECT_GT(ungated, 2 * gated);
 }
+
+// Radar only, the same drive and false alarms with the constant-velocity gate
+// (velocity_prior_radar_only): the last velocity, turned by the last turn rate, refuses the chance
+// consensus as the IMU's prediction does; without it the run takes them.
+TEST(RadarInertialOdometry, RadarOnlyTheLastVelocityRefusesAChanceDopplerConsensus) {
+  if (test::kSanitizedBuild) GTEST_SKIP() << "three 40 s runs: the fused test's estimator test stands for it";
+  const sim::Radar4DSequence& clean = driveSequence();
+  sim::Radar4DSequence seq = clean;
+  falseAlarmsOnly(seq, 200, 220, 30, 11);
+  falseAlarmsOnly(seq, 300, 320, 40, 12);
+  const auto ate = [&](const DriveRun& r) {
+    return absoluteTrajectoryError6Dof(associate(clean.truth, r.trajectory), TrajectoryAlignment::PositionYaw).rmse_m;
+  };
+  RadarInertialOptions o;
+  o.use_imu = false;
+  o.velocity_prior_radar_only = true;
+  const double reference = ate(runDrive(clean, o));
+  const double gated = ate(runDrive(seq, o));
+  o.velocity_prior_radar_only = false;
+  const double ungated = ate(runDrive(seq, o));
+  std::printf("radar only: clean %.3f m; false alarms: gated %.3f m, not gated %.3f m\n", reference, gated, ungated);
+  EXPECT_LT(gated, 1.5 * reference);
+  EXPECT_GT(ungated, 3 * gated);
+}

@@ -264,12 +264,17 @@ OdometryStep3D RadarInertialOdometry::addScan(double stamp, const Cloud& scan) {
   return addScans(stamp, {RadarScan4D{&scan, radar_to_body_, 0}});
 }
 
-bool RadarInertialOdometry::imuPrediction(double stamp, Eigen::Vector3d& velocity, Eigen::Matrix3d& covariance) const {
-  if (!options_.use_imu || !options_.velocity_prior || !predicting_) return false;
-  velocity = predictBodyVelocity(filter_.pose().linear(), last_velocity_, last_imu_, imu_, stamp, filter_.gyroBias(),
-                                 filter_.accelBias(), options_.filter.gravity);
-  covariance = predictedVelocityCovariance(accepted_covariance_, stamp - accepted_stamp_, options_.velocity_prior_floor,
-                                           options_.velocity_prior_sigma);
+bool RadarInertialOdometry::velocityPrediction(double stamp, Eigen::Vector3d& velocity,
+                                               Eigen::Matrix3d& covariance) const {
+  if (!predicting_ || !(options_.use_imu ? options_.velocity_prior : options_.velocity_prior_radar_only)) return false;
+  if (options_.use_imu)
+    velocity = predictBodyVelocity(filter_.pose().linear(), last_velocity_, last_imu_, imu_, stamp, filter_.gyroBias(),
+                                   filter_.accelBias(), options_.filter.gravity);
+  else  // the world's velocity held: the body's turns with the body (a constant-velocity model)
+    velocity = expSO3(-rotation_rate_ * (stamp - last_stamp_)) * last_velocity_;
+  covariance = predictedVelocityCovariance(
+      accepted_covariance_, stamp - accepted_stamp_, options_.velocity_prior_floor,
+      options_.use_imu ? options_.velocity_prior_sigma : options_.velocity_prior_radar_only_sigma);
   return velocity.allFinite() && covariance.allFinite();
 }
 
@@ -323,7 +328,7 @@ OdometryStep3D RadarInertialOdometry::addScans(double stamp, const std::vector<R
       options_.use_imu ? Eigen::Vector3d((imu_.empty() ? last_imu_ : imu_.back()).gyro - filter_.gyroBias())
                        : rotation_rate_;
   std::pair<Eigen::Vector3d, Eigen::Matrix3d> predicted;
-  const bool has_prediction = go && imuPrediction(stamp, predicted.first, predicted.second);
+  const bool has_prediction = go && velocityPrediction(stamp, predicted.first, predicted.second);
   std::vector<std::pair<const RadarScan4D*, EgoVelocity3D>> egos;  // the valid ones
   const Cloud::Ptr source = frontEnd(scans, step, egos, has_prediction ? &predicted : nullptr, omega_guess);
   step.velocity_valid = !egos.empty();

@@ -67,6 +67,13 @@ struct RadarInertialOptions {
   bool velocity_prior = true;
   double velocity_prior_floor = 0.1;  ///< m/s
   double velocity_prior_sigma = 0.3;  ///< m/s²
+  /// Radar only, the same gate on a constant-velocity prediction: the last velocity held in the
+  /// world as the body turns at its last turn rate, its 1σ growing by
+  /// velocity_prior_radar_only_sigma a second (what the rig's own acceleration can change). Off by
+  /// default: the turn rate comes from the matches, and where they fail (a hand-held TI rig) the
+  /// prediction and the radar's lever arm carry their error into the gate (docs/odometry_6dof.md).
+  bool velocity_prior_radar_only = false;
+  double velocity_prior_radar_only_sigma = 3.0;  ///< m/s²
   LocalMap3DOptions map;
   EgoVelocity3DOptions ego_velocity;
   InertialFilterOptions filter;
@@ -107,6 +114,13 @@ void RadarInertialOptions::fields(Visit&& visit) {
   visit(
       &S::velocity_prior_sigma,
       Field("velocity_prior_sigma", "how fast the IMU's predicted velocity grows uncertain").unit("m/s^2").positive());
+  visit(&S::velocity_prior_radar_only,
+        Field("velocity_prior_radar_only", "radar only, each scan's Doppler velocity gated by the last one's"));
+  visit(
+      &S::velocity_prior_radar_only_sigma,
+      Field("velocity_prior_radar_only_sigma", "radar only: how fast the last velocity grows uncertain as a prediction")
+          .unit("m/s^2")
+          .positive());
   visit(&S::map, Field("map", "the local map"));
   visit(&S::ego_velocity, Field("ego_velocity", "the 3D Doppler ego-velocity"));
   visit(&S::filter, Field("filter", "the inertial filter"));
@@ -174,10 +188,11 @@ class RadarInertialOdometry {
   struct Motion;
   Motion priorMotion(double stamp, const Eigen::Vector3d& velocity, const Eigen::Matrix3d& velocity_covariance);
   void match(const pcl::PointCloud<PointRadar4D>::Ptr& source, OdometryStep3D& step);
-  /// The body velocity (with its covariance) the IMU predicts at `stamp` from the last scan's;
-  /// false radar only, with velocity_prior off, or before the first scan after a start that was
-  /// not still.
-  bool imuPrediction(double stamp, Eigen::Vector3d& velocity, Eigen::Matrix3d& covariance) const;
+  /// The body velocity (with its covariance) predicted at `stamp` from the last scan's: the IMU's,
+  /// or radar only the last velocity turned by the last turn rate; false with the setting off
+  /// (velocity_prior, velocity_prior_radar_only), or before the first scan (with an IMU, after a
+  /// start that was not still).
+  bool velocityPrediction(double stamp, Eigen::Vector3d& velocity, Eigen::Matrix3d& covariance) const;
   /// Each radar's detections in range, its Doppler ego-velocity (the valid ones into `egos`; with
   /// a `predicted` body velocity, gated by it at the angular velocity `omega`) and its static
   /// detections moved into the body frame, all radars' together (counted in `step`).

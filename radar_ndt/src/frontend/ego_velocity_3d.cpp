@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <random>
 
 #include <Eigen/Cholesky>
@@ -30,14 +31,25 @@ std::pair<double, std::size_t> msac(const std::vector<Eigen::Vector3d>& rows, co
   return {cost, count};
 }
 
-/// The squared Mahalanobis distance of v from the prior (its covariance plus `extra`).
-double priorDistance(const EgoVelocityPrior& prior, const Eigen::Vector3d& v,
-                     const Eigen::Matrix3d& extra = Eigen::Matrix3d::Zero()) {
-  const Eigen::Vector3d d = v - prior.velocity;
-  const Eigen::LDLT<Eigen::Matrix3d> ldlt(prior.covariance + extra);
-  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return std::numeric_limits<double>::infinity();
-  return d.dot(ldlt.solve(d));
-}
+/// The squared Mahalanobis distance from a prediction's velocity under a covariance, factored once
+/// for every velocity asked about (RANSAC's hypotheses); infinite when the covariance is singular.
+class PriorDistance {
+ public:
+  PriorDistance(const EgoVelocityPrior& prior, const Eigen::Matrix3d& extra = Eigen::Matrix3d::Zero())
+      : velocity_(prior.velocity), ldlt_(prior.covariance + extra) {
+    usable_ = ldlt_.info() == Eigen::Success && ldlt_.rcond() > 1e-12;
+  }
+  double operator()(const Eigen::Vector3d& v) const {
+    if (!usable_) return std::numeric_limits<double>::infinity();
+    const Eigen::Vector3d d = v - velocity_;
+    return d.dot(ldlt_.solve(d));
+  }
+
+ private:
+  Eigen::Vector3d velocity_;
+  Eigen::LDLT<Eigen::Matrix3d> ldlt_;
+  bool usable_ = false;
+};
 
 /// RANSAC over minimal samples of three directions with the MSAC cost (deterministic: fixed seed,
 /// own index draw); false when no sample had independent directions. With a prior, its velocity
@@ -48,9 +60,11 @@ bool ransac(const std::vector<Eigen::Vector3d>& rows, const std::vector<double>&
   std::mt19937 rng(o.seed);
   Eigen::Vector3d best = Eigen::Vector3d::Zero();
   double best_cost = std::numeric_limits<double>::infinity();
+  std::optional<PriorDistance> distance;
   if (prior) {
     best = prior->velocity;
     best_cost = msac(rows, rhs, best, o.inlier_threshold).first;
+    distance.emplace(*prior);
   }
   for (int it = 0; it < o.max_iterations; ++it) {
     const std::size_t a = rng() % n, b = rng() % n, c = rng() % n;
@@ -61,7 +75,7 @@ bool ransac(const std::vector<Eigen::Vector3d>& rows, const std::vector<double>&
     if (std::abs(A.determinant()) < 1e-3) continue;
     const Eigen::Vector3d v = A.partialPivLu().solve(Eigen::Vector3d(rhs[a], rhs[b], rhs[c]));
     if (!v.allFinite() || v.norm() > 100.0) continue;
-    if (prior && priorDistance(*prior, v) > prior->gate) continue;
+    if (distance && (*distance)(v) > prior->gate) continue;
     const double cost = msac(rows, rhs, v, o.inlier_threshold).first;
     if (cost < best_cost) {
       best_cost = cost;
@@ -96,14 +110,6 @@ std::size_t refine(const std::vector<Eigen::Vector3d>& rows, const std::vector<d
   }
   return m;
 }
-
-}  // namespace
-
-void EgoVelocity3DOptions::validate() const {
-  checkFields(*this, "EgoVelocity3DOptions");
-}
-
-namespace {
 
 /// v from the rows (RANSAC, then least squares on its inliers), judged: `in` flags the inliers.
 EgoVelocity3D fit(const std::vector<Eigen::Vector3d>& rows, const std::vector<double>& rhs,
@@ -141,7 +147,7 @@ EgoVelocity3D fit(const std::vector<Eigen::Vector3d>& rows, const std::vector<do
     out.why = std::to_string(m) + " of " + std::to_string(n) + " detections static: too few to trust";
     return out;
   }
-  const double distance = prior ? priorDistance(*prior, v, out.covariance) : 0.0;
+  const double distance = prior ? PriorDistance(*prior, out.covariance)(v) : 0.0;
   if (prior && !(distance <= prior->gate)) {
     out.why = "the static consensus is " + std::to_string(distance) + " (chi-square) from the predicted velocity";
     return out;
@@ -162,6 +168,10 @@ void priorInliers(const std::vector<Eigen::Vector3d>& rows, const std::vector<do
 }
 
 }  // namespace
+
+void EgoVelocity3DOptions::validate() const {
+  checkFields(*this, "EgoVelocity3DOptions");
+}
 
 EgoVelocity3D EgoVelocity3DEstimator::estimate(const std::vector<Eigen::Vector3d>& positions,
                                                const std::vector<double>& doppler, std::vector<bool>* inlier,
@@ -186,9 +196,9 @@ EgoVelocity3D EgoVelocity3DEstimator::estimate(const std::vector<Eigen::Vector3d
   }
   std::vector<char> in;
   const EgoVelocity3D out = fit(rows, rhs, o, prior, in);
+  if (!inlier) return out;
   if (!out.valid && prior) priorInliers(rows, rhs, *prior, o.inlier_threshold, in);
-  if (inlier)
-    for (std::size_t i = 0; i < rows.size(); ++i) (*inlier)[index[i]] = in[i] != 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) (*inlier)[index[i]] = in[i] != 0;
   return out;
 }
 

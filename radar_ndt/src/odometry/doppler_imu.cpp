@@ -204,7 +204,8 @@ DopplerImuResult runDopplerImu(std::vector<ImuSample> imu_in, std::vector<BodyVe
   result.gated_velocities = gateVelocities(velocities, imu, result.trajectory, start, o);
   if (result.gated_velocities == 0) return result;
   result.problems.push_back(
-      format("%.0f scans' Doppler velocity beyond the IMU's prediction (chi-square %.2f): held over as invalid ones",
+      format("%.0f scans' Doppler velocity beyond the IMU's prediction (chi-square %.2f): held over as invalid ones "
+             "(many: check radar_latency and the IMU's axes)",
              double(result.gated_velocities), EgoVelocityPrior().gate));
   integrate(imu, velocities, start.attitude, o, result);
   return result;

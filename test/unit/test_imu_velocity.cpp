@@ -30,7 +30,7 @@ TEST(ImuVelocity, FollowsTheBodysVelocityThroughAccelerationAndTurns) {
     while (imu[i].t < start) ++i;
     const double t0 = imu[i].t, t1 = t0 + 1.0023;
     const Eigen::Vector3d predicted =
-        predictBodyVelocity(motion.pose(t0).linear(), bodyVelocityAt(motion, t0), imu[i], imu, t1,
+        predictBodyVelocity(motion.pose(t0).linear(), bodyVelocityAt(motion, t0), imu[i], imu.begin(), imu.end(), t1,
                             Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 9.81);
     const Eigen::Vector3d truth = bodyVelocityAt(motion, t1);
     if (start < 60) {
@@ -45,9 +45,9 @@ TEST(ImuVelocity, FollowsTheBodysVelocityThroughAccelerationAndTurns) {
   std::size_t i = 0;
   while (biased[i].t < 62.0) ++i;
   const double t1 = biased[i].t + 1.0;
-  const Eigen::Vector3d with_bias =
-      predictBodyVelocity(motion.pose(biased[i].t).linear(), bodyVelocityAt(motion, biased[i].t), biased[i], biased, t1,
-                          Eigen::Vector3d::Zero(), Eigen::Vector3d(0.3, -0.2, 0.1), 9.81);
+  const Eigen::Vector3d with_bias = predictBodyVelocity(
+      motion.pose(biased[i].t).linear(), bodyVelocityAt(motion, biased[i].t), biased[i], biased.begin(), biased.end(),
+      t1, Eigen::Vector3d::Zero(), Eigen::Vector3d(0.3, -0.2, 0.1), 9.81);
   EXPECT_LT((with_bias - bodyVelocityAt(motion, t1)).norm(), 0.02);
 }
 

@@ -390,6 +390,24 @@ void falseAlarmsOnly(sim::Radar4DSequence& seq, std::size_t first, std::size_t l
   }
 }
 
+/// The drive with two stretches of two seconds of false alarms only: 30 a scan from scan 200,
+/// 40 a scan from scan 300.
+const sim::Radar4DSequence& falseAlarmDrive() {
+  static const sim::Radar4DSequence seq = [] {
+    sim::Radar4DSequence out = driveSequence();
+    falseAlarmsOnly(out, 200, 220, 30, 11);
+    falseAlarmsOnly(out, 300, 320, 40, 12);
+    return out;
+  }();
+  return seq;
+}
+
+/// ATE after position + yaw alignment against the drive's truth.
+double driveAte(const DriveRun& r) {
+  return absoluteTrajectoryError6Dof(associate(driveSequence().truth, r.trajectory), TrajectoryAlignment::PositionYaw)
+      .rmse_m;
+}
+
 }  // namespace
 
 // Two stretches of two seconds whose scans hold nothing but false alarms (the radar facing an
@@ -400,18 +418,11 @@ void falseAlarmsOnly(sim::Radar4DSequence& seq, std::size_t first, std::size_t l
 // the prediction flags are matched but never join the local map.
 TEST(RadarInertialOdometry, TheImusPredictionRefusesAChanceDopplerConsensus) {
   if (test::kSanitizedBuild) GTEST_SKIP() << "three 40 s runs: the estimator's own test stands for it";
-  const sim::Radar4DSequence& clean = driveSequence();
-  sim::Radar4DSequence seq = clean;
-  falseAlarmsOnly(seq, 200, 220, 30, 11);
-  falseAlarmsOnly(seq, 300, 320, 40, 12);
-  const auto ate = [&](const DriveRun& r) {
-    return absoluteTrajectoryError6Dof(associate(clean.truth, r.trajectory), TrajectoryAlignment::PositionYaw).rmse_m;
-  };
   RadarInertialOptions o;
-  const double reference = ate(runDrive(clean, o));
-  const double gated = ate(runDrive(seq, o));
+  const double reference = driveAte(runDrive(driveSequence(), o));
+  const double gated = driveAte(runDrive(falseAlarmDrive(), o));
   o.velocity_prior = false;
-  const double ungated = ate(runDrive(seq, o));
+  const double ungated = driveAte(runDrive(falseAlarmDrive(), o));
   std::printf("clean %.3f m; false alarms: gated %.3f m, not gated %.3f m\n", reference, gated, ungated);
   EXPECT_LT(gated, 1.5 * reference);
   EXPECT_GT(ungated, 2 * gated);
@@ -422,20 +433,13 @@ TEST(RadarInertialOdometry, TheImusPredictionRefusesAChanceDopplerConsensus) {
 // consensus as the IMU's prediction does; without it the run takes them.
 TEST(RadarInertialOdometry, RadarOnlyTheLastVelocityRefusesAChanceDopplerConsensus) {
   if (test::kSanitizedBuild) GTEST_SKIP() << "three 40 s runs: the fused test's estimator test stands for it";
-  const sim::Radar4DSequence& clean = driveSequence();
-  sim::Radar4DSequence seq = clean;
-  falseAlarmsOnly(seq, 200, 220, 30, 11);
-  falseAlarmsOnly(seq, 300, 320, 40, 12);
-  const auto ate = [&](const DriveRun& r) {
-    return absoluteTrajectoryError6Dof(associate(clean.truth, r.trajectory), TrajectoryAlignment::PositionYaw).rmse_m;
-  };
   RadarInertialOptions o;
   o.use_imu = false;
   o.velocity_prior_radar_only = true;
-  const double reference = ate(runDrive(clean, o));
-  const double gated = ate(runDrive(seq, o));
+  const double reference = driveAte(runDrive(driveSequence(), o));
+  const double gated = driveAte(runDrive(falseAlarmDrive(), o));
   o.velocity_prior_radar_only = false;
-  const double ungated = ate(runDrive(seq, o));
+  const double ungated = driveAte(runDrive(falseAlarmDrive(), o));
   std::printf("radar only: clean %.3f m; false alarms: gated %.3f m, not gated %.3f m\n", reference, gated, ungated);
   EXPECT_LT(gated, 1.5 * reference);
   EXPECT_GT(ungated, 3 * gated);

@@ -142,12 +142,10 @@ bool withinGate(const Accepted& a, const BodyVelocitySample& v, const std::vecto
                 const Eigen::Vector3d& gyro_bias, const DopplerImuOptions& o) {
   const auto later = [](double t, const ImuSample& s) { return t < s.t; };
   const auto first = std::upper_bound(imu.begin(), imu.end(), a.t, later);
-  const auto last = std::upper_bound(first, imu.end(), v.t, later);
   ImuSample from = *(first == imu.begin() ? first : first - 1);  // the reading at a.t, held
   from.t = a.t;
-  const Eigen::Vector3d predicted =
-      predictBodyVelocity(a.attitude, a.velocity, from, std::vector<ImuSample>(first, last), v.t, gyro_bias,
-                          Eigen::Vector3d::Zero(), o.gravity);
+  const Eigen::Vector3d predicted = predictBodyVelocity(a.attitude, a.velocity, from, first, imu.end(), v.t, gyro_bias,
+                                                        Eigen::Vector3d::Zero(), o.gravity);
   const Eigen::Matrix3d S =
       predictedVelocityCovariance(a.covariance, v.t - a.t, o.velocity_gate_floor, o.velocity_gate_sigma) + v.covariance;
   const Eigen::Vector3d innovation = v.velocity - predicted;

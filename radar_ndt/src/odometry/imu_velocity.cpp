@@ -7,7 +7,8 @@
 namespace radar_ndt {
 
 Eigen::Vector3d predictBodyVelocity(const Eigen::Matrix3d& attitude, const Eigen::Vector3d& velocity,
-                                    const ImuSample& from, const std::vector<ImuSample>& imu, double until,
+                                    const ImuSample& from, std::vector<ImuSample>::const_iterator first,
+                                    std::vector<ImuSample>::const_iterator last, double until,
                                     const Eigen::Vector3d& gyro_bias, const Eigen::Vector3d& accel_bias,
                                     double gravity) {
   Eigen::Matrix3d R = attitude;
@@ -24,10 +25,10 @@ Eigen::Vector3d predictBodyVelocity(const Eigen::Matrix3d& attitude, const Eigen
     R = R * expSO3(omega * dt);
     a = b;
   };
-  for (const ImuSample& b : imu) {
-    if (b.t <= from.t) continue;
-    if (b.t > until) break;
-    step(b);
+  for (; first != last; ++first) {
+    if (first->t <= from.t) continue;
+    if (first->t > until) break;
+    step(*first);
   }
   if (a.t < until) {
     ImuSample held = a;  // the last reading held to `until`

@@ -266,15 +266,21 @@ OdometryStep3D RadarInertialOdometry::addScan(double stamp, const Cloud& scan) {
 
 bool RadarInertialOdometry::velocityPrediction(double stamp, Eigen::Vector3d& velocity,
                                                Eigen::Matrix3d& covariance) const {
-  if (!predicting_ || !(options_.use_imu ? options_.velocity_prior : options_.velocity_prior_radar_only)) return false;
-  if (options_.use_imu)
-    velocity = predictBodyVelocity(filter_.pose().linear(), last_velocity_, last_imu_, imu_, stamp, filter_.gyroBias(),
-                                   filter_.accelBias(), options_.filter.gravity);
-  else  // the world's velocity held: the body's turns with the body (a constant-velocity model)
+  if (!predicting_) return false;
+  double sigma;  // how fast the prediction grows uncertain
+  if (options_.use_imu) {
+    if (!options_.velocity_prior) return false;
+    velocity = predictBodyVelocity(filter_.pose().linear(), last_velocity_, last_imu_, imu_.begin(), imu_.end(), stamp,
+                                   filter_.gyroBias(), filter_.accelBias(), options_.filter.gravity);
+    sigma = options_.velocity_prior_sigma;
+  } else {
+    if (!options_.velocity_prior_radar_only) return false;
+    // The world's velocity held: the body's turns with the body (a constant-velocity model).
     velocity = expSO3(-rotation_rate_ * (stamp - last_stamp_)) * last_velocity_;
-  covariance = predictedVelocityCovariance(
-      accepted_covariance_, stamp - accepted_stamp_, options_.velocity_prior_floor,
-      options_.use_imu ? options_.velocity_prior_sigma : options_.velocity_prior_radar_only_sigma);
+    sigma = options_.velocity_prior_radar_only_sigma;
+  }
+  covariance =
+      predictedVelocityCovariance(accepted_covariance_, stamp - accepted_stamp_, options_.velocity_prior_floor, sigma);
   return velocity.allFinite() && covariance.allFinite();
 }
 

@@ -15,10 +15,11 @@
 namespace radar_ndt {
 
 /// Carries `velocity` (body axes, m/s) and `attitude` (body to world, the world's z up) from
-/// `from.t` over the messages of `imu` (time-ordered) up to `until`, the last reading held to it;
-/// messages at or before from.t are passed over. Biases are taken off the readings.
+/// `from.t` over the messages [first, last) (time-ordered) up to `until`, the last reading held to
+/// it; messages at or before from.t are passed over. Biases are taken off the readings.
 Eigen::Vector3d predictBodyVelocity(const Eigen::Matrix3d& attitude, const Eigen::Vector3d& velocity,
-                                    const ImuSample& from, const std::vector<ImuSample>& imu, double until,
+                                    const ImuSample& from, std::vector<ImuSample>::const_iterator first,
+                                    std::vector<ImuSample>::const_iterator last, double until,
                                     const Eigen::Vector3d& gyro_bias, const Eigen::Vector3d& accel_bias,
                                     double gravity);
 
